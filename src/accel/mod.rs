@@ -1,0 +1,1 @@
+//! Ray-intersection acceleration (stub; implemented by the geometry work).

@@ -1,0 +1,1 @@
+//! Fresnel equations (stub; implemented by the BSDF work).

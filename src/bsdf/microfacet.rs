@@ -1,0 +1,1 @@
+//! Microfacet distributions (stub; implemented by the BSDF work).

@@ -1,0 +1,17 @@
+//! ophis — a spectral path tracer for structural colour: thin-film iridescence and layered
+//! materials, reading Mitsuba XML scenes.
+
+/// Bounding volume hierarchy over all scene primitives, plus a brute-force oracle.
+pub mod accel;
+/// Scattering functions (BSDFs) and materials.
+pub mod bsdf;
+/// Light sources.
+pub mod light;
+/// Geometry and sampling primitives.
+pub mod math;
+/// Shapes: spheres, disks, triangle meshes and their loaders.
+pub mod shape;
+/// Spectral types, colour-matching functions, RGB uplift, named IOR data.
+pub mod spectrum;
+/// Textures.
+pub mod texture;

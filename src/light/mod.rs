@@ -1,0 +1,1 @@
+//! Light sources (stub; implemented by the lights work).

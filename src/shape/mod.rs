@@ -1,0 +1,169 @@
+//! Geometric shapes, their ray intersection, surface parametrisation and area sampling.
+//!
+//! Scene shapes are flattened into primitives for the BVH: an analytic sphere or disk is one
+//! primitive, a triangle mesh contributes one primitive per triangle. Intersection returns a
+//! compact [`Hit`]; the full [`SurfaceInteraction`] is computed only for the closest hit.
+
+use crate::math::{Bounds3, Ray, Transform, Vec2, Vec3};
+
+/// The compact result of a ray–primitive test.
+#[derive(Clone, Copy, Debug)]
+pub struct Hit {
+    /// Ray parameter of the hit.
+    pub t: f32,
+    /// Index of the shape in the scene's shape list.
+    pub shape: u32,
+    /// Primitive index within the shape (triangle index; 0 for analytic shapes).
+    pub prim: u32,
+    /// Shape-specific coordinates of the hit (barycentrics b1, b2 for triangles).
+    pub uv: Vec2,
+}
+
+/// Local surface geometry at a ray hit.
+#[derive(Clone, Copy, Debug)]
+pub struct SurfaceInteraction {
+    /// Hit point (world space).
+    pub p: Vec3,
+    /// Ray parameter.
+    pub t: f32,
+    /// Unit geometric normal, facing the shape's outside (flipped by `flip_normals`).
+    pub ng: Vec3,
+    /// Unit shading normal (interpolated vertex normal; equal to `ng` without one), on the same
+    /// side as `ng`.
+    pub ns: Vec3,
+    /// Texture coordinates.
+    pub uv: Vec2,
+    /// Position derivatives with respect to u and v (tangents).
+    pub dpdu: Vec3,
+    pub dpdv: Vec3,
+    /// Shape index.
+    pub shape: u32,
+    /// Primitive index.
+    pub prim: u32,
+}
+
+/// A point sampled on a shape for direct lighting.
+#[derive(Clone, Copy, Debug)]
+pub struct ShapeSample {
+    pub p: Vec3,
+    /// Unit normal at `p` (same orientation convention as [`SurfaceInteraction::ng`]).
+    pub n: Vec3,
+    pub uv: Vec2,
+    /// Density with respect to solid angle as seen from the reference point.
+    pub pdf: f32,
+}
+
+pub mod disk;
+pub mod mesh;
+pub mod obj;
+pub mod ply;
+pub mod sphere;
+
+pub use disk::Disk;
+pub use mesh::TriangleMesh;
+pub use sphere::Sphere;
+
+/// A shape in the scene.
+#[derive(Clone, Debug)]
+pub enum Shape {
+    Sphere(Sphere),
+    Disk(Disk),
+    Mesh(TriangleMesh),
+}
+
+impl Shape {
+    /// Number of BVH primitives this shape contributes.
+    pub fn prim_count(&self) -> usize {
+        match self {
+            Shape::Mesh(m) => m.triangle_count(),
+            _ => 1,
+        }
+    }
+
+    /// World-space bounds of one primitive.
+    pub fn prim_bounds(&self, prim: u32) -> Bounds3 {
+        match self {
+            Shape::Sphere(s) => s.bounds(),
+            Shape::Disk(d) => d.bounds(),
+            Shape::Mesh(m) => m.triangle_bounds(prim),
+        }
+    }
+
+    /// Intersects one primitive; returns the ray parameter in (0, ray.t_max) and the
+    /// shape-specific hit coordinates.
+    #[inline]
+    pub fn intersect_prim(&self, prim: u32, ray: &Ray) -> Option<(f32, Vec2)> {
+        match self {
+            Shape::Sphere(s) => s.intersect(ray),
+            Shape::Disk(d) => d.intersect(ray),
+            Shape::Mesh(m) => m.intersect_triangle(prim, ray),
+        }
+    }
+
+    /// Full surface geometry for a hit on this shape.
+    pub fn interaction(&self, hit: &Hit, ray: &Ray) -> SurfaceInteraction {
+        match self {
+            Shape::Sphere(s) => s.interaction(hit, ray),
+            Shape::Disk(d) => d.interaction(hit, ray),
+            Shape::Mesh(m) => m.interaction(hit, ray),
+        }
+    }
+
+    /// World-space bounds of the whole shape.
+    pub fn bounds(&self) -> Bounds3 {
+        match self {
+            Shape::Sphere(s) => s.bounds(),
+            Shape::Disk(d) => d.bounds(),
+            Shape::Mesh(m) => m.bounds(),
+        }
+    }
+
+    /// Surface area.
+    pub fn area(&self) -> f32 {
+        match self {
+            Shape::Sphere(s) => s.area(),
+            Shape::Disk(d) => d.area(),
+            Shape::Mesh(m) => m.area(),
+        }
+    }
+
+    /// Samples a point on the shape as seen from `ref_p`, with the density in solid angle.
+    /// Spheres sample the cone of directions they subtend; other shapes sample area uniformly.
+    pub fn sample_direct(&self, ref_p: Vec3, u: Vec2) -> Option<ShapeSample> {
+        match self {
+            Shape::Sphere(s) => s.sample_direct(ref_p, u),
+            Shape::Disk(d) => d.sample_direct(ref_p, u),
+            Shape::Mesh(m) => m.sample_direct(ref_p, u),
+        }
+    }
+
+    /// Solid-angle density of [`Shape::sample_direct`] choosing the point `p` (normal `n`) on the
+    /// shape, hit from `ref_p`.
+    pub fn pdf_direct(&self, ref_p: Vec3, p: Vec3, n: Vec3) -> f32 {
+        match self {
+            Shape::Sphere(s) => s.pdf_direct(ref_p, p, n),
+            Shape::Disk(d) => d.pdf_direct(ref_p, p, n),
+            Shape::Mesh(m) => m.pdf_direct(ref_p, p, n),
+        }
+    }
+}
+
+/// Converts an area density at `p` (normal `n`) to a solid-angle density seen from `ref_p`.
+#[inline]
+pub fn area_to_solid_angle(pdf_area: f32, ref_p: Vec3, p: Vec3, n: Vec3) -> f32 {
+    let d = p - ref_p;
+    let dist2 = d.length_squared();
+    if dist2 == 0.0 {
+        return 0.0;
+    }
+    let cos = (n.dot(d) / dist2.sqrt()).abs();
+    if cos == 0.0 {
+        return 0.0;
+    }
+    pdf_area * dist2 / cos
+}
+
+/// Applies an object-to-world transform used by shapes (re-exported for loaders).
+pub fn transform_or_identity(t: Option<Transform>) -> Transform {
+    t.unwrap_or(Transform::IDENTITY)
+}

@@ -1,0 +1,188 @@
+//! Spectral distributions as they appear in scenes: constants, tabulated curves, blackbodies and
+//! RGB colours uplifted to smooth spectra (Jakob & Hanika 2019, "A Low-Dimensional Function Space
+//! for Efficient Spectral Upsampling").
+
+use super::rgb2spec::{rgb_to_sigmoid, SigmoidPolynomial};
+use super::{cie, SampledSpectrum, SampledWavelengths};
+use std::sync::Arc;
+
+/// A piecewise-linear function of wavelength (nm), constant beyond its ends.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PiecewiseLinear {
+    pub lambda: Vec<f32>,
+    pub values: Vec<f32>,
+}
+
+impl PiecewiseLinear {
+    /// A curve from (λ, value) pairs; `None` unless λ is strictly increasing, finite and the two
+    /// lists have the same non-zero length.
+    pub fn new(lambda: Vec<f32>, values: Vec<f32>) -> Option<PiecewiseLinear> {
+        if lambda.is_empty() || lambda.len() != values.len() {
+            return None;
+        }
+        if lambda.windows(2).any(|w| !(w[1] > w[0]))
+            || lambda.iter().chain(&values).any(|v| !v.is_finite())
+        {
+            return None;
+        }
+        Some(PiecewiseLinear { lambda, values })
+    }
+
+    /// Value at `l` nm.
+    pub fn eval(&self, l: f32) -> f32 {
+        let n = self.lambda.len();
+        if l <= self.lambda[0] {
+            return self.values[0];
+        }
+        if l >= self.lambda[n - 1] {
+            return self.values[n - 1];
+        }
+        let i = self.lambda.partition_point(|&x| x <= l) - 1;
+        let t = (l - self.lambda[i]) / (self.lambda[i + 1] - self.lambda[i]);
+        self.values[i] + t * (self.values[i + 1] - self.values[i])
+    }
+}
+
+/// A spectral distribution.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Spectrum {
+    /// The same value at every wavelength.
+    Constant(f32),
+    /// A tabulated curve.
+    PiecewiseLinear(Arc<PiecewiseLinear>),
+    /// Planck's law at `temperature` kelvin in W·m⁻²·sr⁻¹·nm⁻¹, times `scale`.
+    Blackbody { temperature: f32, scale: f32 },
+    /// A reflectance-like RGB colour (components in [0, 1]) uplifted to a smooth spectrum.
+    RgbAlbedo(SigmoidPolynomial),
+    /// An RGB colour with components beyond 1: `scale` × a smooth spectrum of the colour / `scale`.
+    RgbUnbounded { scale: f32, poly: SigmoidPolynomial },
+    /// An RGB emission: the uplifted colour times the D65 illuminant normalised to unit luminance,
+    /// so that `rgb(1, 1, 1)` renders as white (1, 1, 1) as in Mitsuba's spectral variants.
+    RgbIlluminant { scale: f32, poly: SigmoidPolynomial },
+}
+
+impl Spectrum {
+    /// A reflectance from linear sRGB; components are clamped to [0, 1].
+    pub fn rgb_albedo(rgb: [f32; 3]) -> Spectrum {
+        let c = rgb.map(|v| {
+            if v.is_finite() {
+                v.clamp(0.0, 1.0)
+            } else {
+                0.0
+            }
+        });
+        if c[0] == c[1] && c[1] == c[2] {
+            return Spectrum::Constant(c[0]);
+        }
+        Spectrum::RgbAlbedo(rgb_to_sigmoid(c))
+    }
+
+    /// An unbounded non-negative quantity (e.g. an index or extinction) from linear sRGB.
+    pub fn rgb_unbounded(rgb: [f32; 3]) -> Spectrum {
+        let c = rgb.map(|v| if v.is_finite() { v.max(0.0) } else { 0.0 });
+        if c[0] == c[1] && c[1] == c[2] {
+            return Spectrum::Constant(c[0]);
+        }
+        let (scale, poly) = Self::scaled(c);
+        Spectrum::RgbUnbounded { scale, poly }
+    }
+
+    /// An emitted radiance from linear sRGB (multiplied by normalised D65).
+    pub fn rgb_illuminant(rgb: [f32; 3]) -> Spectrum {
+        let c = rgb.map(|v| if v.is_finite() { v.max(0.0) } else { 0.0 });
+        let (scale, poly) = Self::scaled(c);
+        Spectrum::RgbIlluminant { scale, poly }
+    }
+
+    fn scaled(c: [f32; 3]) -> (f32, SigmoidPolynomial) {
+        let m = c[0].max(c[1]).max(c[2]);
+        if m <= 0.0 {
+            return (0.0, rgb_to_sigmoid([0.0; 3]));
+        }
+        let scale = 2.0 * m;
+        (scale, rgb_to_sigmoid(c.map(|v| v / scale)))
+    }
+
+    /// Value at one wavelength (nm).
+    pub fn eval(&self, l: f32) -> f32 {
+        match self {
+            Spectrum::Constant(v) => *v,
+            Spectrum::PiecewiseLinear(p) => p.eval(l),
+            Spectrum::Blackbody { temperature, scale } => scale * blackbody(l, *temperature),
+            Spectrum::RgbAlbedo(p) => p.eval(l),
+            Spectrum::RgbUnbounded { scale, poly } => scale * poly.eval(l),
+            Spectrum::RgbIlluminant { scale, poly } => scale * poly.eval(l) * cie::d65(l),
+        }
+    }
+
+    /// Values at the path's wavelengths.
+    #[inline]
+    pub fn sample(&self, wl: &SampledWavelengths) -> SampledSpectrum {
+        match self {
+            Spectrum::Constant(v) => SampledSpectrum::splat(*v),
+            _ => SampledSpectrum::from_fn(|i| self.eval(wl.lambda[i])),
+        }
+    }
+
+    /// Largest value over 360–830 nm (sampled at 1 nm), used for light power estimates.
+    pub fn max_value(&self) -> f32 {
+        match self {
+            Spectrum::Constant(v) => *v,
+            _ => (360..=830).map(|l| self.eval(l as f32)).fold(0.0, f32::max),
+        }
+    }
+
+    /// The colour of this spectrum, as an emission, in linear sRGB (used for summaries and
+    /// power heuristics; not on the rendering path).
+    pub fn to_rgb_illuminant(&self) -> [f32; 3] {
+        let mut xyz = [0.0f64; 3];
+        for l in 360..=830 {
+            let v = self.eval(l as f32) as f64;
+            let b = cie::xyz_bar(l as f32);
+            for c in 0..3 {
+                xyz[c] += v * b[c] as f64;
+            }
+        }
+        let y = cie::CIE_Y_INTEGRAL as f64;
+        cie::xyz_to_linear_srgb(xyz.map(|v| (v / y) as f32))
+    }
+}
+
+/// Planck's law: spectral radiance of a blackbody at `t` kelvin, in W·m⁻²·sr⁻¹·nm⁻¹.
+pub fn blackbody(lambda_nm: f32, t: f32) -> f32 {
+    if !(t > 0.0) {
+        return 0.0;
+    }
+    const C: f64 = 299_792_458.0;
+    const H: f64 = 6.626_070_15e-34;
+    const KB: f64 = 1.380_649e-23;
+    let l = lambda_nm as f64 * 1e-9;
+    let le = (2.0 * H * C * C) / (l.powi(5) * ((H * C / (l * KB * t as f64)).exp() - 1.0));
+    (le * 1e-9) as f32
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn piecewise_linear_interpolates_and_clamps() {
+        let p = PiecewiseLinear::new(vec![400.0, 500.0, 600.0], vec![1.0, 3.0, 2.0]).unwrap();
+        assert_eq!(p.eval(300.0), 1.0);
+        assert_eq!(p.eval(450.0), 2.0);
+        assert_eq!(p.eval(550.0), 2.5);
+        assert_eq!(p.eval(700.0), 2.0);
+        assert!(PiecewiseLinear::new(vec![500.0, 400.0], vec![1.0, 1.0]).is_none());
+    }
+
+    #[test]
+    fn blackbody_peak_follows_wien() {
+        // Wien's displacement law: λ_max = 2.897771955e6 nm·K / T.
+        let t = 5000.0;
+        let peak = (300..1200)
+            .map(|l| l as f32)
+            .max_by(|a, b| blackbody(*a, t).total_cmp(&blackbody(*b, t)))
+            .unwrap();
+        assert!((peak - 2.897_772e6 / t).abs() <= 1.0, "{peak}");
+    }
+}

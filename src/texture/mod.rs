@@ -1,0 +1,102 @@
+//! Textures: spatially varying spectra and scalars looked up by surface UV.
+
+use crate::math::{Mat3, Vec2, Vec3};
+use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
+
+/// Where a texture is looked up.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct TexCoord {
+    pub uv: Vec2,
+    pub p: Vec3,
+}
+
+/// A spectrum-valued texture.
+#[derive(Clone, Debug)]
+pub enum SpectrumTexture {
+    /// The same spectrum everywhere.
+    Constant(Spectrum),
+    /// Mitsuba's `checkerboard`: `color0` on even squares of the unit UV square split 2×2.
+    Checkerboard {
+        color0: Spectrum,
+        color1: Spectrum,
+        to_uv: Mat3,
+    },
+}
+
+impl SpectrumTexture {
+    /// A constant texture.
+    pub fn constant(s: Spectrum) -> Self {
+        SpectrumTexture::Constant(s)
+    }
+
+    /// Values at the path's wavelengths.
+    #[inline]
+    pub fn eval(&self, tc: &TexCoord, wl: &SampledWavelengths) -> SampledSpectrum {
+        match self {
+            SpectrumTexture::Constant(s) => s.sample(wl),
+            SpectrumTexture::Checkerboard {
+                color0,
+                color1,
+                to_uv,
+            } => {
+                if checker(*to_uv, tc.uv) {
+                    color0.sample(wl)
+                } else {
+                    color1.sample(wl)
+                }
+            }
+        }
+    }
+
+    /// Largest value anywhere (for bounds and power estimates).
+    pub fn max_value(&self) -> f32 {
+        match self {
+            SpectrumTexture::Constant(s) => s.max_value(),
+            SpectrumTexture::Checkerboard { color0, color1, .. } => {
+                color0.max_value().max(color1.max_value())
+            }
+        }
+    }
+}
+
+/// A scalar texture.
+#[derive(Clone, Debug)]
+pub enum FloatTexture {
+    /// The same value everywhere.
+    Constant(f32),
+    /// Mitsuba's `checkerboard` read as a float.
+    Checkerboard {
+        color0: f32,
+        color1: f32,
+        to_uv: Mat3,
+    },
+}
+
+impl FloatTexture {
+    /// Value at a point.
+    #[inline]
+    pub fn eval(&self, tc: &TexCoord) -> f32 {
+        match self {
+            FloatTexture::Constant(v) => *v,
+            FloatTexture::Checkerboard {
+                color0,
+                color1,
+                to_uv,
+            } => {
+                if checker(*to_uv, tc.uv) {
+                    *color0
+                } else {
+                    *color1
+                }
+            }
+        }
+    }
+}
+
+#[inline]
+fn checker(to_uv: Mat3, uv: Vec2) -> bool {
+    let t = to_uv.transform_point2(uv);
+    let fx = t.x - t.x.floor();
+    let fy = t.y - t.y.floor();
+    (fx > 0.5) == (fy > 0.5)
+}
