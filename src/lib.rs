@@ -15,3 +15,7 @@ pub mod shape;
 pub mod spectrum;
 /// Textures.
 pub mod texture;
+/// Image reading and writing: OpenEXR, Radiance HDR, PNG.
+pub mod image_io;
+/// Scene loading (Mitsuba XML) and the built scene.
+pub mod scene;

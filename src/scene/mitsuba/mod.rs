@@ -1,0 +1,1 @@
+//! Mitsuba XML reader (stub; implemented by the XML work).

@@ -1,0 +1,3 @@
+//! Scene loading and the built scene.
+
+pub mod mitsuba;
