@@ -19,3 +19,15 @@ pub mod texture;
 pub mod image_io;
 /// Scene loading (Mitsuba XML) and the built scene.
 pub mod scene;
+/// Perspective camera.
+pub mod camera;
+/// Film: XYZ accumulation and reconstruction filters.
+pub mod film;
+/// Path tracing.
+pub mod integrator;
+/// The render loop over tiles.
+pub mod render;
+/// Sample generators.
+pub mod sampler;
+/// Wave optics: exact thin-film interference.
+pub mod optics;

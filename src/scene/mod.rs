@@ -1,3 +1,83 @@
-//! Scene loading and the built scene.
+//! Scene loading and the built scene: geometry with its BVH, materials, lights, camera and
+//! render settings.
 
+pub mod build;
 pub mod mitsuba;
+
+use crate::accel::{Accel, Bvh};
+use crate::bsdf::Material;
+use crate::camera::PerspectiveCamera;
+use crate::film::Filter;
+use crate::light::{Light, LightSampler};
+use crate::math::{Bounds3, Ray};
+use crate::sampler::SamplerKind;
+use crate::shape::{Hit, Shape, SurfaceInteraction};
+
+/// Path-tracer settings (Mitsuba's `path` integrator).
+#[derive(Clone, Debug, PartialEq)]
+pub struct IntegratorSettings {
+    /// Longest path in segments; `None` = unbounded (Russian roulette ends paths).
+    pub max_depth: Option<u32>,
+    /// Depth from which Russian roulette may end paths.
+    pub rr_depth: u32,
+    /// Hide directly visible emitters.
+    pub hide_emitters: bool,
+}
+
+impl Default for IntegratorSettings {
+    fn default() -> Self {
+        IntegratorSettings { max_depth: None, rr_depth: 5, hide_emitters: false }
+    }
+}
+
+/// Sampling settings.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SamplerSettings {
+    pub kind: SamplerKind,
+    pub spp: u32,
+    pub seed: u64,
+}
+
+/// A scene ready to render.
+#[derive(Debug)]
+pub struct Scene {
+    pub shapes: Vec<Shape>,
+    pub bvh: Bvh,
+    pub materials: Vec<Material>,
+    /// Material index per shape.
+    pub shape_material: Vec<u32>,
+    /// Area light index per shape, if the shape emits.
+    pub shape_light: Vec<Option<u32>>,
+    pub lights: Vec<Light>,
+    pub light_sampler: LightSampler,
+    /// Indices of lights at infinity (environment, constant).
+    pub infinite_lights: Vec<u32>,
+    pub camera: PerspectiveCamera,
+    pub width: u32,
+    pub height: u32,
+    pub filter: Filter,
+    pub integrator: IntegratorSettings,
+    pub sampler: SamplerSettings,
+    pub bounds: Bounds3,
+}
+
+impl Scene {
+    /// Closest hit along the ray.
+    #[inline]
+    pub fn intersect(&self, ray: &Ray) -> Option<(Hit, SurfaceInteraction)> {
+        let hit = self.bvh.intersect(&self.shapes, ray)?;
+        let si = self.shapes[hit.shape as usize].interaction(&hit, ray);
+        Some((hit, si))
+    }
+
+    /// Whether anything blocks the ray before `ray.t_max`.
+    #[inline]
+    pub fn occluded(&self, ray: &Ray) -> bool {
+        self.bvh.occluded(&self.shapes, ray)
+    }
+
+    /// Number of triangles and analytic primitives.
+    pub fn primitive_count(&self) -> usize {
+        self.shapes.iter().map(|s| s.prim_count()).sum()
+    }
+}

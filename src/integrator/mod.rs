@@ -1,0 +1,5 @@
+//! Light-transport integrators.
+
+pub mod path;
+
+pub use path::{radiance, PathStrategy};

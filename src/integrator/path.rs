@@ -1,0 +1,185 @@
+//! Unidirectional path tracing with next-event estimation and multiple importance sampling
+//! (Veach 1997, ch. 9, power heuristic β = 2), Russian roulette after `rr_depth`, spectral
+//! transport of four hero wavelengths (Wilkie et al. 2014).
+//!
+//! Depth follows Mitsuba's `path` integrator: `max_depth` counts path segments, so
+//! `max_depth = 1` shows only emitters seen directly, 2 adds direct lighting, and `None`
+//! (Mitsuba's −1) leaves termination to Russian roulette (with a safety cap far beyond where
+//! energy matters).
+
+use crate::bsdf::{Bsdf, TransportMode};
+use crate::light::LightSampleContext;
+use crate::math::{power_heuristic, Frame, Ray, Vec3};
+use crate::sampler::Sampler;
+use crate::scene::Scene;
+use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+use crate::texture::TexCoord;
+
+/// Which estimators to combine; the render tests compare them against each other.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PathStrategy {
+    /// Light sampling and BSDF sampling combined by MIS (the default).
+    Mis,
+    /// Only light sampling for emitters reachable that way (delta BSDF paths still hit lights).
+    LightOnly,
+    /// Only BSDF sampling (next-event estimation off).
+    BsdfOnly,
+}
+
+/// Paths never exceed this many segments, even with `max_depth = −1`; Russian roulette has ended
+/// all but a negligible fraction long before.
+const SAFETY_DEPTH: u32 = 1024;
+
+/// Estimates the radiance arriving along a camera ray at the path's wavelengths.
+pub fn radiance(scene: &Scene, mut ray: Ray, wl: &SampledWavelengths, sampler: &mut Sampler, strategy: PathStrategy) -> SampledSpectrum {
+    let settings = &scene.integrator;
+    let max_depth = settings.max_depth.unwrap_or(SAFETY_DEPTH).min(SAFETY_DEPTH);
+    let mut l = SampledSpectrum::ZERO;
+    let mut beta = SampledSpectrum::ONE;
+    let mut eta_scale = 1.0f32;
+    let mut specular_bounce = true;
+    let mut prev_pdf = 0.0f32;
+    let mut prev_ctx = LightSampleContext { p: ray.o, n: Vec3::ZERO };
+    let use_nee = strategy != PathStrategy::BsdfOnly;
+    let use_bsdf_hits = strategy != PathStrategy::LightOnly;
+    let mut depth = 0u32;
+
+    loop {
+        let Some((_hit, si)) = scene.intersect(&ray) else {
+            // Escaped: environment lights.
+            if depth == 0 && settings.hide_emitters {
+                break;
+            }
+            for &li in &scene.infinite_lights {
+                let light = &scene.lights[li as usize];
+                let le = light.le(ray.d, wl);
+                if le.is_black() {
+                    continue;
+                }
+                let w = emitter_hit_weight(scene, li, specular_bounce, use_nee, use_bsdf_hits, prev_pdf, || {
+                    light.pdf_li(&prev_ctx, ray.d, &scene.shapes, None)
+                });
+                l += beta * le * w;
+            }
+            break;
+        };
+
+        let wo = -ray.d;
+        // Emission from an area light that the path hit.
+        if let Some(li) = scene.shape_light[si.shape as usize] {
+            if !(depth == 0 && settings.hide_emitters) {
+                let light = &scene.lights[li as usize];
+                let le = light.l(&si, wo, wl);
+                if !le.is_black() {
+                    let w = emitter_hit_weight(scene, li, specular_bounce, use_nee, use_bsdf_hits, prev_pdf, || {
+                        light.pdf_li(&prev_ctx, ray.d, &scene.shapes, Some(&si))
+                    });
+                    l += beta * le * w;
+                }
+            }
+        }
+
+        depth += 1;
+        if depth >= max_depth {
+            break;
+        }
+
+        let material = &scene.materials[scene.shape_material[si.shape as usize] as usize];
+        let front = si.ng.dot(wo) >= 0.0;
+        let tc = TexCoord { uv: si.uv, p: si.p };
+        let (bxdf, two_sided) = material.eval(&tc, wl, front);
+        let bsdf = Bsdf { frame: Frame::from_normal_tangent(si.ns, si.dpdu), bxdf, two_sided };
+        let flags = bsdf.flags();
+        if flags.0 == 0 {
+            break;
+        }
+
+        // Next-event estimation. The light sample's dimensions are drawn at every vertex so
+        // that later bounces use the same sampler dimensions whatever the material.
+        let u_light = sampler.get_1d();
+        let u = sampler.get_2d();
+        if use_nee && flags.is_non_specular() {
+            let ctx = LightSampleContext { p: si.p, n: si.ng };
+            if let Some((li, pmf)) = scene.light_sampler.sample(u_light) {
+                let light = &scene.lights[li];
+                if let Some(ls) = light.sample_li(&ctx, u, wl, &scene.shapes) {
+                    if ls.pdf > 0.0 && !ls.l.is_black() {
+                        let f = bsdf.f(wo, ls.wi, TransportMode::Radiance, sampler.rng()) * ls.wi.dot(si.ns).abs();
+                        if !f.is_black() && !scene.occluded(&Ray::spawn_to(si.p, si.ng, ls.p_light)) {
+                            let light_pdf = pmf * ls.pdf;
+                            let w = if ls.is_delta || strategy == PathStrategy::LightOnly {
+                                1.0
+                            } else {
+                                let bsdf_pdf = bsdf.pdf(wo, ls.wi, TransportMode::Radiance, sampler.rng());
+                                power_heuristic(light_pdf, bsdf_pdf)
+                            };
+                            l += beta * f * ls.l * (w / light_pdf);
+                        }
+                    }
+                }
+            }
+        }
+
+        // BSDF sampling.
+        let uc = sampler.get_1d();
+        let u = sampler.get_2d();
+        let Some(bs) = bsdf.sample_f(wo, uc, u, TransportMode::Radiance, sampler.rng()) else {
+            break;
+        };
+        let cos = bs.wi.dot(si.ns).abs();
+        beta *= bs.f * (cos / bs.pdf);
+        if !beta.is_finite() {
+            break;
+        }
+        prev_pdf = if bs.pdf_is_proportional { bsdf.pdf(wo, bs.wi, TransportMode::Radiance, sampler.rng()) } else { bs.pdf };
+        specular_bounce = bs.is_specular();
+        if bs.is_transmission() {
+            eta_scale *= bs.eta * bs.eta;
+        }
+        prev_ctx = LightSampleContext { p: si.p, n: si.ng };
+        ray = Ray::spawn(si.p, si.ng, bs.wi);
+
+        // Russian roulette on the throughput, corrected for radiance compression at refraction.
+        if depth >= settings.rr_depth {
+            let q = (beta.max_value() * eta_scale).min(0.95);
+            if !(q > 0.0) || sampler.get_1d() >= q {
+                break;
+            }
+            beta /= q;
+        }
+        if beta.is_black() {
+            break;
+        }
+    }
+    // NaN/Inf never reach the film.
+    if l.is_finite() {
+        l
+    } else {
+        SampledSpectrum::ZERO
+    }
+}
+
+/// MIS weight for emission found by BSDF sampling.
+#[inline]
+fn emitter_hit_weight(
+    scene: &Scene,
+    light: u32,
+    specular_bounce: bool,
+    use_nee: bool,
+    use_bsdf_hits: bool,
+    prev_pdf: f32,
+    pdf_li: impl FnOnce() -> f32,
+) -> f32 {
+    if specular_bounce {
+        // Light sampling cannot produce this path (camera ray or delta lobe).
+        return 1.0;
+    }
+    if !use_bsdf_hits {
+        return 0.0;
+    }
+    if !use_nee {
+        return 1.0;
+    }
+    let light_pdf = scene.light_sampler.pmf(light as usize) * pdf_li();
+    power_heuristic(prev_pdf, light_pdf)
+}

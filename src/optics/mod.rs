@@ -1,0 +1,3 @@
+//! Wave optics used by the materials: coherent thin-film interference.
+
+pub mod thinfilm;

@@ -1,0 +1,238 @@
+//! Building a renderable [`Scene`] from a Mitsuba XML tree: sensor, film, sampler and
+//! integrator settings, shapes with their materials and area lights, other emitters, the BVH.
+
+mod emitters;
+mod materials;
+mod shapes;
+pub mod values;
+
+use super::mitsuba::{self, Node, SceneError, Tag, Warning};
+use super::{IntegratorSettings, SamplerSettings, Scene};
+use crate::accel::Bvh;
+use crate::bsdf::Material;
+use crate::camera::{FovAxis, PerspectiveCamera};
+use crate::film::Filter;
+use crate::light::{Light, LightSampler};
+use crate::math::{Bounds3, Transform};
+use crate::sampler::SamplerKind;
+use std::collections::HashMap;
+use std::path::Path;
+use std::sync::Arc;
+use values::{checked_float, checked_int};
+
+/// Command-line overrides applied while loading.
+#[derive(Clone, Debug, Default)]
+pub struct LoadOptions {
+    /// `-D name=value` pairs.
+    pub defines: Vec<(String, String)>,
+    /// Samples per pixel, overriding the scene's sampler.
+    pub spp: Option<u32>,
+    /// Seed, overriding the scene's sampler.
+    pub seed: Option<u64>,
+}
+
+/// Largest image side accepted; beyond this a film is almost certainly a typo, and its buffers
+/// would not fit in memory.
+pub const MAX_RESOLUTION: i64 = 1 << 15;
+
+/// Loads and builds a scene file. Warnings (unknown plugins, unused parameters) are returned
+/// rather than printed.
+pub fn load_scene(path: &Path, opts: &LoadOptions) -> Result<(Scene, Vec<Warning>), SceneError> {
+    let (root, mut warnings) = mitsuba::load_file(path, &opts.defines)?;
+    let scene = build_scene(&root, opts, &mut warnings)?;
+    warnings.extend(mitsuba::check_unused(&root));
+    Ok((scene, warnings))
+}
+
+/// Loads a scene from XML text (`file_name` names it in messages and anchors relative paths).
+pub fn load_scene_str(xml: &str, file_name: &Path, opts: &LoadOptions) -> Result<(Scene, Vec<Warning>), SceneError> {
+    let (root, mut warnings) = mitsuba::load_str(xml, file_name, &opts.defines)?;
+    let scene = build_scene(&root, opts, &mut warnings)?;
+    warnings.extend(mitsuba::check_unused(&root));
+    Ok((scene, warnings))
+}
+
+/// Everything collected while walking the tree.
+#[derive(Default)]
+pub(crate) struct Builder {
+    pub shapes: Vec<crate::shape::Shape>,
+    pub shape_material: Vec<u32>,
+    pub shape_light: Vec<Option<u32>>,
+    pub materials: Vec<Material>,
+    /// Materials already built, keyed by node identity (shared through `<ref>`).
+    pub material_ids: HashMap<*const Node, u32>,
+    pub lights: Vec<Light>,
+    pub default_material: Option<u32>,
+}
+
+fn build_scene(root: &Node, opts: &LoadOptions, warnings: &mut Vec<Warning>) -> Result<Scene, SceneError> {
+    let mut b = Builder::default();
+    let mut sensor: Option<&Arc<Node>> = None;
+    let mut integrator = IntegratorSettings::default();
+    for child in &root.children {
+        let node = &child.node;
+        match node.tag {
+            Tag::Shape => shapes::add_shape(&mut b, node, warnings)?,
+            Tag::Emitter => emitters::add_emitter(&mut b, node, warnings)?,
+            Tag::Sensor => {
+                if sensor.is_some() {
+                    warnings.push(Warning { loc: node.loc.clone(), message: "only the first sensor is used".into() });
+                } else {
+                    sensor = Some(node);
+                }
+            }
+            Tag::Integrator => integrator = build_integrator(node, warnings)?,
+            // Declared for later <ref>s; built when referenced.
+            Tag::Bsdf | Tag::Texture => {}
+            _ => warnings.push(Warning { loc: node.loc.clone(), message: format!("{} is not supported by ophis and is ignored", node.describe()) }),
+        }
+    }
+
+    let (camera, width, height, filter, mut sampler) = match sensor {
+        Some(s) => build_sensor(s, warnings)?,
+        None => {
+            let (w, h) = (768, 576);
+            let cam = PerspectiveCamera::new(Transform::IDENTITY, 45.0, FovAxis::X, w, h, 1e-2, 1e4);
+            (cam, w, h, Filter::gaussian(0.5), SamplerSettings { kind: SamplerKind::Independent, spp: 4, seed: 0 })
+        }
+    };
+    if let Some(spp) = opts.spp {
+        sampler.spp = spp;
+    }
+    if let Some(seed) = opts.seed {
+        sampler.seed = seed;
+    }
+
+    let bvh = Bvh::build(&b.shapes);
+    let mut bounds = Bounds3::EMPTY;
+    for s in &b.shapes {
+        bounds = bounds.union(&s.bounds());
+    }
+    if bounds.is_empty() {
+        bounds = Bounds3::from_point(camera.position());
+    }
+    for l in &mut b.lights {
+        l.preprocess(&bounds);
+    }
+    let infinite_lights = b.lights.iter().enumerate().filter(|(_, l)| l.is_infinite()).map(|(i, _)| i as u32).collect();
+    let light_sampler = LightSampler::new(&b.lights);
+    if b.lights.is_empty() {
+        warnings.push(Warning { loc: root.loc.clone(), message: "the scene has no emitters: the image will be black".into() });
+    }
+    Ok(Scene {
+        shapes: b.shapes,
+        bvh,
+        materials: b.materials,
+        shape_material: b.shape_material,
+        shape_light: b.shape_light,
+        lights: b.lights,
+        light_sampler,
+        infinite_lights,
+        camera,
+        width,
+        height,
+        filter,
+        integrator,
+        sampler,
+        bounds,
+    })
+}
+
+fn build_integrator(node: &Node, warnings: &mut Vec<Warning>) -> Result<IntegratorSettings, SceneError> {
+    match node.plugin.as_str() {
+        "path" => {}
+        other => warnings.push(Warning {
+            loc: node.loc.clone(),
+            message: format!("integrator '{other}' is not supported; using 'path' with its parameters"),
+        }),
+    }
+    let max_depth = checked_int(node, "max_depth", -1, -1, 1 << 20)?;
+    let rr_depth = checked_int(node, "rr_depth", 5, 0, 1 << 20)?;
+    let hide_emitters = node.props.get_bool("hide_emitters", false)?;
+    Ok(IntegratorSettings { max_depth: if max_depth < 0 { None } else { Some(max_depth as u32) }, rr_depth: rr_depth as u32, hide_emitters })
+}
+
+type SensorParts = (PerspectiveCamera, u32, u32, Filter, SamplerSettings);
+
+fn build_sensor(node: &Node, warnings: &mut Vec<Warning>) -> Result<SensorParts, SceneError> {
+    if node.plugin != "perspective" {
+        warnings.push(Warning {
+            loc: node.loc.clone(),
+            message: format!("sensor '{}' is not supported; rendering it as a 'perspective' pinhole camera", node.plugin),
+        });
+    }
+    let mut width = 768;
+    let mut height = 576;
+    let mut filter = Filter::gaussian(0.5);
+    let mut sampler = SamplerSettings { kind: SamplerKind::Independent, spp: 4, seed: 0 };
+    for child in &node.children {
+        let c = &child.node;
+        match c.tag {
+            Tag::Film => {
+                if c.plugin != "hdrfilm" && c.plugin != "ldrfilm" {
+                    warnings.push(Warning { loc: c.loc.clone(), message: format!("film '{}' is treated as 'hdrfilm'", c.plugin) });
+                }
+                width = checked_int(c, "width", 768, 1, MAX_RESOLUTION)? as u32;
+                height = checked_int(c, "height", 576, 1, MAX_RESOLUTION)? as u32;
+                for f in c.children_with_tag(Tag::Rfilter) {
+                    filter = build_filter(f, warnings)?;
+                }
+            }
+            Tag::Sampler => {
+                sampler.kind = match c.plugin.as_str() {
+                    "independent" => SamplerKind::Independent,
+                    "stratified" | "multijitter" | "ldsampler" | "orthogonal" | "sobol" | "halton" | "hammersley" => SamplerKind::Sobol,
+                    other => {
+                        warnings.push(Warning { loc: c.loc.clone(), message: format!("sampler '{other}' is unknown; using 'independent'") });
+                        SamplerKind::Independent
+                    }
+                };
+                sampler.spp = checked_int(c, "sample_count", 4, 1, 1 << 24)? as u32;
+                sampler.seed = checked_int(c, "seed", 0, 0, i64::MAX)? as u64;
+            }
+            _ => warnings.push(Warning { loc: c.loc.clone(), message: format!("{} inside a sensor is ignored", c.describe()) }),
+        }
+    }
+    let fov = match node.props.get_float_opt("fov")? {
+        Some(f) => f,
+        None => {
+            // Mitsuba also accepts a focal length such as "50mm" (35 mm film equivalent).
+            let fl = node.props.get_string("focal_length", "50mm")?;
+            let mm: f32 = fl.trim_end_matches("mm").trim().parse().map_err(|_| {
+                SceneError::at(node.props.location("focal_length").unwrap_or(&node.loc), format!("focal_length must look like '50mm', got '{fl}'"))
+            })?;
+            if !(mm > 0.0) {
+                return Err(SceneError::at(&node.loc, "focal_length must be positive"));
+            }
+            // Horizontal fov of a 36 mm wide frame, applied to the diagonal as Mitsuba does.
+            2.0 * (43.266_615 / (2.0 * mm)).atan().to_degrees()
+        }
+    };
+    if !(fov > 0.0 && fov < 180.0) {
+        return Err(SceneError::at(node.props.location("fov").unwrap_or(&node.loc), format!("fov must be between 0 and 180 degrees, got {fov}")));
+    }
+    let axis_name = node.props.get_string("fov_axis", if node.props.contains("fov") { "x" } else { "diagonal" })?;
+    let axis = FovAxis::from_name(&axis_name).ok_or_else(|| {
+        SceneError::at(
+            node.props.location("fov_axis").unwrap_or(&node.loc),
+            format!("fov_axis must be one of x, y, diagonal, smaller, larger; got '{axis_name}'"),
+        )
+    })?;
+    let near = checked_float(node, "near_clip", 1e-2, |v| v > 0.0 && v.is_finite(), "positive")?;
+    let far = checked_float(node, "far_clip", 1e4, |v| v > near && v.is_finite(), "greater than near_clip")?;
+    let to_world = node.props.get_transform("to_world", Transform::IDENTITY)?;
+    let cam = PerspectiveCamera::new(to_world, fov, axis, width, height, near, far);
+    Ok((cam, width, height, filter, sampler))
+}
+
+fn build_filter(node: &Node, warnings: &mut Vec<Warning>) -> Result<Filter, SceneError> {
+    Ok(match node.plugin.as_str() {
+        "box" => Filter::Box,
+        "tent" => Filter::Tent { radius: checked_float(node, "radius", 1.0, |v| v > 0.0 && v <= 16.0, "in (0, 16]")? },
+        "gaussian" => Filter::gaussian(checked_float(node, "stddev", 0.5, |v| v > 0.0 && v <= 4.0, "in (0, 4]")?),
+        other => {
+            warnings.push(Warning { loc: node.loc.clone(), message: format!("reconstruction filter '{other}' is not supported; using 'gaussian'") });
+            Filter::gaussian(0.5)
+        }
+    })
+}

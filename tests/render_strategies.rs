@@ -1,0 +1,69 @@
+//! Light sampling, BSDF sampling and their MIS combination are three unbiased estimators of the
+//! same image: renders with each must agree within noise.
+//!
+//! Test: for every 8×8 block of pixels and every channel, the per-pixel differences between two
+//! strategies have expectation 0; their mean is compared with its standard error (from the 64
+//! differences' spread, so image structure does not inflate it). With 16 blocks × 3 channels and
+//! a family-wise significance of 0.01 (Šidák), each t-test (63 degrees of freedom) uses
+//! |t| ≤ 4.5, slightly above the two-sided 1e-4 quantile (≈ 4.0) to allow for the mildly heavy
+//! tails of path-tracing noise.
+
+mod common;
+use common::{render_rgb, scene};
+use ophis::integrator::PathStrategy;
+
+const XML: &str = r#"<scene version="3.0.0">
+    <integrator type="path"><integer name="max_depth" value="4"/></integrator>
+    <sensor type="perspective">
+        <float name="fov" value="45"/>
+        <transform name="to_world"><lookat origin="0,1.2,4" target="0,0.3,0" up="0,1,0"/></transform>
+        <sampler type="independent"><integer name="sample_count" value="64"/></sampler>
+        <film type="hdrfilm"><integer name="width" value="32"/><integer name="height" value="32"/>
+            <rfilter type="box"/></film>
+    </sensor>
+    <emitter type="constant"><rgb name="radiance" value="0.2"/></emitter>
+    <shape type="rectangle">
+        <transform name="to_world"><scale value="3"/><rotate x="1" angle="-90"/></transform>
+        <bsdf type="diffuse"><rgb name="reflectance" value="0.5, 0.45, 0.4"/></bsdf>
+    </shape>
+    <shape type="sphere"><point name="center" x="-0.6" y="0.5" z="0"/><float name="radius" value="0.5"/>
+        <bsdf type="roughconductor"><string name="material" value="Cu"/><float name="alpha" value="0.35"/>
+            <string name="distribution" value="ggx"/></bsdf></shape>
+    <shape type="sphere"><point name="center" x="0.6" y="0.5" z="0"/><float name="radius" value="0.5"/>
+        <bsdf type="roughplastic"><rgb name="diffuse_reflectance" value="0.2, 0.3, 0.7"/><float name="alpha" value="0.3"/></bsdf></shape>
+    <shape type="sphere"><point name="center" x="0" y="2.2" z="-0.5"/><float name="radius" value="0.6"/>
+        <emitter type="area"><rgb name="radiance" value="3"/></emitter></shape>
+</scene>"#;
+
+fn compare(a: &[[f32; 3]], b: &[[f32; 3]], what: &str) {
+    let n = 32;
+    for by in 0..4 {
+        for bx in 0..4 {
+            for c in 0..3 {
+                let d: Vec<f64> = (0..64).map(|k| {
+                    let (x, y) = (bx * 8 + k % 8, by * 8 + k / 8);
+                    (a[y * n + x][c] - b[y * n + x][c]) as f64
+                }).collect();
+                let m = d.iter().sum::<f64>() / 64.0;
+                let var = d.iter().map(|v| (v - m) * (v - m)).sum::<f64>() / 63.0;
+                let se = (var / 64.0).sqrt();
+                if se == 0.0 {
+                    assert!(m.abs() < 1e-6, "{what}: block ({bx},{by}) ch {c}: identical noise but mean diff {m}");
+                    continue;
+                }
+                let t = m / se;
+                assert!(t.abs() <= 4.5, "{what}: block ({bx},{by}) channel {c}: mean difference {m:.5} ± {se:.5} (t = {t:.2})");
+            }
+        }
+    }
+}
+
+#[test]
+fn mis_light_and_bsdf_sampling_agree() {
+    let sc = scene(XML);
+    let mis = render_rgb(&sc, 64, PathStrategy::Mis);
+    let light = render_rgb(&sc, 64, PathStrategy::LightOnly);
+    let bsdf = render_rgb(&sc, 256, PathStrategy::BsdfOnly);
+    compare(&mis, &light, "MIS vs light sampling");
+    compare(&mis, &bsdf, "MIS vs BSDF sampling");
+}
