@@ -1,0 +1,674 @@
+//! The reader proper: walks the XML, substitutes parameters, follows includes, resolves
+//! references and builds [`Node`]s.
+
+use std::collections::HashMap;
+use std::fmt::Display;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use roxmltree::{Document, ParsingOptions};
+
+use super::literal::{self, parse_bool, parse_float, parse_int, parse_rgb, srgb_to_linear};
+use super::properties::{Properties, SpectrumValue, Value};
+use super::{describe, transform, Child, Location, Node, SceneError, Tag, Warning};
+use crate::math::{Transform, Vec3};
+
+/// Deepest nesting of elements and includes accepted; deeper input is an error, not a crash.
+const MAX_DEPTH: usize = 100;
+
+/// Reads a file as UTF-8 text; a directory is an error (on some systems reading one succeeds).
+pub fn read_text(path: &Path) -> std::io::Result<String> {
+    if path.is_dir() {
+        return Err(std::io::Error::other("it is a directory, not a file"));
+    }
+    std::fs::read_to_string(path)
+}
+
+/// One parsed file: positions in it and how to read it.
+struct Source<'d, 'i> {
+    doc: &'d Document<'i>,
+    line_starts: Vec<usize>,
+    file: Arc<PathBuf>,
+    dir: PathBuf,
+    upgrade: bool,
+}
+
+impl<'d, 'i> Source<'d, 'i> {
+    fn new(doc: &'d Document<'i>, file: Arc<PathBuf>) -> Self {
+        let text = doc.input_text();
+        let line_starts = std::iter::once(0)
+            .chain(text.match_indices('\n').map(|(i, _)| i + 1))
+            .collect();
+        let dir = file.parent().map(PathBuf::from).unwrap_or_default();
+        Source {
+            doc,
+            line_starts,
+            file,
+            dir,
+            upgrade: false,
+        }
+    }
+
+    /// The 1-based line and column (in characters) of a byte offset.
+    fn loc(&self, byte: usize) -> Location {
+        let text = self.doc.input_text();
+        let byte = byte.min(text.len());
+        let line = self.line_starts.partition_point(|&s| s <= byte).max(1);
+        let start = self.line_starts[line - 1];
+        let col = text.get(start..byte).map_or(0, |s| s.chars().count()) + 1;
+        Location {
+            file: self.file.clone(),
+            line: line as u32,
+            col: col as u32,
+        }
+    }
+}
+
+/// An attribute after `$name` substitution.
+pub struct Attr {
+    pub name: String,
+    pub value: String,
+    pub loc: Location,
+}
+
+/// An element with its attributes substituted, for the value parsers.
+pub struct Elem {
+    pub tag: String,
+    pub loc: Location,
+    pub attrs: Vec<Attr>,
+}
+
+impl Elem {
+    fn new(
+        node: roxmltree::Node,
+        src: &Source,
+        params: &HashMap<String, String>,
+    ) -> Result<Elem, SceneError> {
+        let tag = node.tag_name().name().to_string();
+        let loc = src.loc(node.range().start);
+        let mut attrs = Vec::new();
+        for a in node.attributes().filter(|a| a.namespace().is_none()) {
+            let aloc = src.loc(a.range().start);
+            let value = literal::substitute(a.value(), params).map_err(|m| {
+                SceneError::at(
+                    &aloc,
+                    format!("<{tag}>: attribute '{}': found {m}", a.name()),
+                )
+            })?;
+            attrs.push(Attr {
+                name: a.name().to_string(),
+                value,
+                loc: aloc,
+            });
+        }
+        Ok(Elem { tag, loc, attrs })
+    }
+
+    pub fn get(&self, name: &str) -> Option<&Attr> {
+        self.attrs.iter().find(|a| a.name == name)
+    }
+
+    pub fn require(&self, name: &str) -> Result<&Attr, SceneError> {
+        self.get(name)
+            .ok_or_else(|| self.err(format!("attribute '{name}' is missing; it is required")))
+    }
+
+    /// `<float name="radius">`, for messages.
+    pub fn describe(&self) -> String {
+        match self.get("name") {
+            Some(n) => format!("<{} name=\"{}\">", self.tag, n.value),
+            None => format!("<{}>", self.tag),
+        }
+    }
+
+    pub fn err(&self, msg: impl Display) -> SceneError {
+        SceneError::at(&self.loc, format!("{}: {msg}", self.describe()))
+    }
+
+    pub fn attr_err(&self, a: &Attr, msg: impl Display) -> SceneError {
+        SceneError::at(
+            &a.loc,
+            format!("{}: attribute '{}': found {msg}", self.describe(), a.name),
+        )
+    }
+}
+
+/// An object being built.
+struct Builder {
+    tag: Tag,
+    plugin: String,
+    id: Option<String>,
+    props: Properties,
+    children: Vec<Child>,
+    child_names: Vec<(String, Location)>,
+    loc: Location,
+}
+
+impl Builder {
+    fn new(tag: Tag, plugin: String, id: Option<String>, loc: Location) -> Builder {
+        Builder {
+            props: Properties::new(describe(tag, &plugin, id.as_deref())),
+            tag,
+            plugin,
+            id,
+            children: Vec::new(),
+            child_names: Vec::new(),
+            loc,
+        }
+    }
+
+    fn taken(&self, name: &str) -> Option<&Location> {
+        self.props.location(name).or_else(|| {
+            self.child_names
+                .iter()
+                .find(|(n, _)| n == name)
+                .map(|(_, l)| l)
+        })
+    }
+
+    fn twice(&self, name: &str, first: &Location, loc: &Location) -> SceneError {
+        SceneError::at(
+            loc,
+            format!(
+                "parameter '{name}' of {} is given twice (first at {first})",
+                self.props.owner()
+            ),
+        )
+    }
+
+    fn add_prop(
+        &mut self,
+        name: String,
+        orig: String,
+        v: Value,
+        loc: Location,
+    ) -> Result<(), SceneError> {
+        if let Some(first) = self.child_names.iter().find(|(n, _)| *n == name) {
+            return Err(self.twice(&name, &first.1, &loc));
+        }
+        self.props.insert(name, orig, v, loc)
+    }
+
+    fn add_child(
+        &mut self,
+        name: Option<String>,
+        node: Arc<Node>,
+        loc: Location,
+    ) -> Result<(), SceneError> {
+        if let Some(n) = &name {
+            if let Some(first) = self.taken(n) {
+                return Err(self.twice(n, first, &loc));
+            }
+            self.child_names.push((n.clone(), loc));
+        }
+        self.children.push(Child { name, node });
+        Ok(())
+    }
+
+    fn finish(self) -> Node {
+        Node {
+            tag: self.tag,
+            plugin: self.plugin,
+            id: self.id,
+            props: self.props,
+            children: self.children,
+            loc: self.loc,
+        }
+    }
+}
+
+/// Reader state shared by a scene file and everything it includes.
+pub struct Reader {
+    params: HashMap<String, String>,
+    ids: HashMap<String, (Arc<Node>, Location)>,
+    /// Files being read, outermost first, for include-cycle detection.
+    stack: Vec<PathBuf>,
+    warnings: Vec<Warning>,
+}
+
+fn parse_doc<'i>(text: &'i str, file: &Arc<PathBuf>) -> Result<Document<'i>, SceneError> {
+    let at = |line, col| Location {
+        file: file.clone(),
+        line,
+        col,
+    };
+    if text.trim().is_empty() {
+        return Err(SceneError::at(
+            &at(1, 1),
+            "the file is empty; expected a <scene version=\"…\"> document",
+        ));
+    }
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let opts = ParsingOptions {
+        allow_dtd: true,
+        ..ParsingOptions::default()
+    };
+    Document::parse_with_options(text, opts).map_err(|e| {
+        let pos = e.pos();
+        let msg = e.to_string();
+        let suffix = format!(" at {}:{}", pos.row, pos.col);
+        SceneError::Xml {
+            loc: at(pos.row, pos.col),
+            message: msg.strip_suffix(&suffix).unwrap_or(&msg).to_string(),
+        }
+    })
+}
+
+impl Reader {
+    pub fn new(defines: &[(String, String)]) -> Reader {
+        Reader {
+            params: defines.iter().cloned().collect(),
+            ids: HashMap::new(),
+            stack: Vec::new(),
+            warnings: Vec::new(),
+        }
+    }
+
+    pub fn read_root(
+        mut self,
+        text: &str,
+        file: &Path,
+    ) -> Result<(Node, Vec<Warning>), SceneError> {
+        let file = Arc::new(file.to_path_buf());
+        let doc = parse_doc(text, &file)?;
+        let mut src = Source::new(&doc, file.clone());
+        let root = doc.root_element();
+        let loc = self.scene_root(root, &mut src)?;
+        self.stack
+            .push(std::fs::canonicalize(file.as_ref()).unwrap_or_else(|_| (*file).clone()));
+        let mut b = Builder::new(Tag::Scene, "scene".into(), None, loc);
+        self.children(root, &src, &mut b, 0)?;
+        Ok((b.finish(), self.warnings))
+    }
+
+    fn warn(&mut self, loc: &Location, message: String) {
+        self.warnings.push(Warning {
+            loc: loc.clone(),
+            message,
+        });
+    }
+
+    fn check_attrs(&mut self, e: &Elem, allowed: &[&str]) {
+        for a in &e.attrs {
+            if !allowed.contains(&a.name.as_str()) {
+                let msg = format!(
+                    "{}: unknown attribute '{}' ignored (expected {})",
+                    e.describe(),
+                    a.name,
+                    allowed.join(", ")
+                );
+                self.warn(&a.loc.clone(), msg);
+            }
+        }
+    }
+
+    /// Checks `<scene version="…">` and decides whether the file needs the 0.6 upgrade.
+    fn scene_root(
+        &mut self,
+        root: roxmltree::Node,
+        src: &mut Source,
+    ) -> Result<Location, SceneError> {
+        let e = Elem::new(root, src, &self.params)?;
+        if e.tag != "scene" {
+            return Err(e.err(format!(
+                "found root element <{}>; expected <scene version=\"…\"> (single-object files \
+                 are not supported)",
+                e.tag
+            )));
+        }
+        let v = e.require("version")?;
+        let (major, _, _) = literal::parse_version(&v.value).map_err(|m| e.attr_err(v, m))?;
+        src.upgrade = major < 2;
+        self.check_attrs(&e, &["version"]);
+        Ok(e.loc)
+    }
+
+    fn children(
+        &mut self,
+        parent: roxmltree::Node,
+        src: &Source,
+        b: &mut Builder,
+        depth: usize,
+    ) -> Result<(), SceneError> {
+        for child in parent.children() {
+            if child.is_element() {
+                self.element(child, src, b, depth)?;
+            } else if let Some(t) = child.text().filter(|t| !t.trim().is_empty()) {
+                let msg = format!("text '{}' ignored (expected only elements)", t.trim());
+                self.warn(&src.loc(child.range().start), msg);
+            }
+        }
+        Ok(())
+    }
+
+    fn element(
+        &mut self,
+        node: roxmltree::Node,
+        src: &Source,
+        b: &mut Builder,
+        depth: usize,
+    ) -> Result<(), SceneError> {
+        let tag = node.tag_name().name();
+        let loc = src.loc(node.range().start);
+        if depth >= MAX_DEPTH {
+            return Err(SceneError::at(
+                &loc,
+                format!(
+                    "<{tag}>: found elements and includes nested deeper than {MAX_DEPTH} levels"
+                ),
+            ));
+        }
+        match tag {
+            "default" => self.default(node, src),
+            "include" => self.include(node, src, b, depth),
+            "ref" => self.reference(node, src, b),
+            "alias" => self.alias(node, src),
+            "float" | "integer" | "boolean" | "string" | "point" | "vector" | "rgb" | "srgb"
+            | "blackbody" | "transform" => self.value(node, src, b),
+            "spectrum" if !node.has_attribute("type") => self.value(node, src, b),
+            "translate" | "rotate" | "scale" | "matrix" | "lookat" | "lookAt" => Err(SceneError::at(
+                &loc,
+                format!("found <{tag}> outside <transform>; expected it inside <transform name=\"to_world\">"),
+            )),
+            "scene" => Err(SceneError::at(&loc, "found a nested <scene>; expected it only as the root")),
+            _ => match Tag::from_name(tag) {
+                Some(t) => self.object(node, src, b, t, depth),
+                None => {
+                    let msg = format!(
+                        "unknown element <{tag}> ignored (expected an object such as <shape>, a \
+                         value such as <float>, or <ref>, <include>, <default>, <alias>)"
+                    );
+                    self.warn(&loc, msg);
+                    Ok(())
+                }
+            },
+        }
+    }
+
+    /// The `name` attribute, upgraded for 0.6 files; `(name, as written)`.
+    fn name_of(e: &Elem, src: &Source) -> Option<(String, String)> {
+        let orig = e.get("name")?.value.clone();
+        let name = if src.upgrade {
+            literal::to_snake_case(&orig)
+        } else {
+            orig.clone()
+        };
+        Some((name, orig))
+    }
+
+    fn register(&mut self, id: &str, node: Arc<Node>, e: &Elem) -> Result<(), SceneError> {
+        if let Some((_, first)) = self.ids.get(id) {
+            return Err(e.err(format!(
+                "found duplicate id '{id}'; it was first declared at {first}"
+            )));
+        }
+        self.ids.insert(id.to_string(), (node, e.loc.clone()));
+        Ok(())
+    }
+
+    fn lookup(&self, e: &Elem, a: &Attr) -> Result<Arc<Node>, SceneError> {
+        match self.ids.get(&a.value) {
+            Some((n, _)) => Ok(n.clone()),
+            None => Err(e.attr_err(
+                a,
+                format!(
+                    "unknown id '{}'; expected the id of an object declared earlier",
+                    a.value
+                ),
+            )),
+        }
+    }
+
+    fn object(
+        &mut self,
+        node: roxmltree::Node,
+        src: &Source,
+        b: &mut Builder,
+        tag: Tag,
+        depth: usize,
+    ) -> Result<(), SceneError> {
+        let e = Elem::new(node, src, &self.params)?;
+        self.check_attrs(&e, &["type", "id", "name"]);
+        let plugin = e.require("type")?.value.clone();
+        let id = e.get("id").map(|a| a.value.clone());
+        if id.as_deref() == Some("") || plugin.is_empty() {
+            return Err(e.err("found an empty 'type' or 'id'; expected a non-empty one"));
+        }
+        let mut cb = Builder::new(tag, plugin, id.clone(), e.loc.clone());
+        self.children(node, src, &mut cb, depth + 1)?;
+        let child = Arc::new(cb.finish());
+        if let Some(id) = &id {
+            self.register(id, child.clone(), &e)?;
+        }
+        b.add_child(Self::name_of(&e, src).map(|n| n.0), child, e.loc)
+    }
+
+    fn reference(
+        &mut self,
+        node: roxmltree::Node,
+        src: &Source,
+        b: &mut Builder,
+    ) -> Result<(), SceneError> {
+        let e = Elem::new(node, src, &self.params)?;
+        self.check_attrs(&e, &["id", "name"]);
+        self.no_children(node, src, &e);
+        let target = self.lookup(&e, e.require("id")?)?;
+        b.add_child(Self::name_of(&e, src).map(|n| n.0), target, e.loc.clone())
+    }
+
+    fn alias(&mut self, node: roxmltree::Node, src: &Source) -> Result<(), SceneError> {
+        let e = Elem::new(node, src, &self.params)?;
+        self.check_attrs(&e, &["id", "as"]);
+        let target = self.lookup(&e, e.require("id")?)?;
+        let new_id = e.require("as")?.value.clone();
+        self.register(&new_id, target, &e)
+    }
+
+    fn default(&mut self, node: roxmltree::Node, src: &Source) -> Result<(), SceneError> {
+        let e = Elem::new(node, src, &self.params)?;
+        self.check_attrs(&e, &["name", "value"]);
+        let name = e.require("name")?;
+        let value = e.require("value")?.value.clone();
+        if name.value.is_empty()
+            || !name
+                .value
+                .chars()
+                .all(|c| c.is_ascii_alphanumeric() || c == '_')
+        {
+            return Err(e.attr_err(
+                name,
+                format!(
+                    "'{}'; expected a name of letters, digits and '_'",
+                    name.value
+                ),
+            ));
+        }
+        // Defines given on the command line, and earlier defaults, win.
+        self.params.entry(name.value.clone()).or_insert(value);
+        Ok(())
+    }
+
+    fn include(
+        &mut self,
+        node: roxmltree::Node,
+        src: &Source,
+        b: &mut Builder,
+        depth: usize,
+    ) -> Result<(), SceneError> {
+        let e = Elem::new(node, src, &self.params)?;
+        self.check_attrs(&e, &["filename"]);
+        let path = src.dir.join(&e.require("filename")?.value);
+        let text = read_text(&path).map_err(|io| {
+            e.err(format!(
+                "cannot read included file '{}': {io}",
+                path.display()
+            ))
+        })?;
+        let key = std::fs::canonicalize(&path).unwrap_or_else(|_| path.clone());
+        if let Some(i) = self.stack.iter().position(|p| *p == key) {
+            let chain: Vec<String> = self.stack[i..]
+                .iter()
+                .chain(std::iter::once(&key))
+                .map(|p| p.display().to_string())
+                .collect();
+            return Err(e.err(format!("found an include cycle: {}", chain.join(" → "))));
+        }
+        let file = Arc::new(path);
+        let doc = parse_doc(&text, &file)?;
+        let mut inner = Source::new(&doc, file);
+        let root = doc.root_element();
+        self.scene_root(root, &mut inner)?;
+        self.stack.push(key);
+        let r = self.children(root, &inner, b, depth + 1);
+        self.stack.pop();
+        r
+    }
+
+    fn no_children(&mut self, node: roxmltree::Node, src: &Source, e: &Elem) {
+        for c in node.children().filter(|c| c.is_element()) {
+            let msg = format!(
+                "<{}> inside {} ignored (it takes no nested elements)",
+                c.tag_name().name(),
+                e.describe()
+            );
+            self.warn(&src.loc(c.range().start), msg);
+        }
+    }
+
+    fn value(
+        &mut self,
+        node: roxmltree::Node,
+        src: &Source,
+        b: &mut Builder,
+    ) -> Result<(), SceneError> {
+        let e = Elem::new(node, src, &self.params)?;
+        let Some((name, orig)) = Self::name_of(&e, src).filter(|n| !n.0.is_empty()) else {
+            return Err(e.err("attribute 'name' is missing or empty; it is required"));
+        };
+        let parse = |a: &Attr, f: fn(&str) -> Result<f64, String>| {
+            f(&a.value).map_err(|m| e.attr_err(a, m))
+        };
+        let (value, allowed): (Value, &[&str]) = match e.tag.as_str() {
+            "float" => (
+                Value::Float(parse(e.require("value")?, parse_float)?),
+                &["name", "value"],
+            ),
+            "integer" => {
+                let a = e.require("value")?;
+                (
+                    Value::Integer(parse_int(&a.value).map_err(|m| e.attr_err(a, m))?),
+                    &["name", "value"],
+                )
+            }
+            "boolean" => {
+                let a = e.require("value")?;
+                (
+                    Value::Boolean(parse_bool(&a.value).map_err(|m| e.attr_err(a, m))?),
+                    &["name", "value"],
+                )
+            }
+            "string" => (
+                Value::String(e.require("value")?.value.clone()),
+                &["name", "value"],
+            ),
+            "point" | "vector" => {
+                let v = point(&e)?;
+                let v = if e.tag == "point" {
+                    Value::Point(v)
+                } else {
+                    Value::Vector(v)
+                };
+                (v, &["name", "value", "x", "y", "z"])
+            }
+            "rgb" | "srgb" => {
+                let a = e.require("value")?;
+                let mut c = parse_rgb(&a.value).map_err(|m| e.attr_err(a, m))?;
+                if e.tag == "srgb" && !a.value.trim().starts_with('#') {
+                    c = c.map(srgb_to_linear);
+                }
+                (Value::Rgb(c), &["name", "value", "intent"])
+            }
+            "spectrum" => (
+                Value::Spectrum(spectrum(&e, src)?),
+                &["name", "value", "filename", "intent"],
+            ),
+            "blackbody" => {
+                let t = e.require("temperature")?;
+                let temperature =
+                    literal::parse_temperature(&t.value).map_err(|m| e.attr_err(t, m))?;
+                let scale = match e.get("scale") {
+                    Some(a) => parse(a, parse_float)? as f32,
+                    None => 1.0,
+                };
+                (
+                    Value::Blackbody { temperature, scale },
+                    &["name", "temperature", "scale"],
+                )
+            }
+            _ => (Value::Transform(self.transform(node, src)?), &["name"]),
+        };
+        if e.tag != "transform" {
+            self.no_children(node, src, &e);
+        }
+        self.check_attrs(&e, allowed);
+        b.add_prop(name, orig, value, e.loc)
+    }
+
+    fn transform(&mut self, node: roxmltree::Node, src: &Source) -> Result<Transform, SceneError> {
+        let mut t = Transform::IDENTITY;
+        for c in node.children().filter(|c| c.is_element()) {
+            let op = Elem::new(c, src, &self.params)?;
+            self.check_attrs(&op, transform::allowed_attrs(&op.tag));
+            self.no_children(c, src, &op);
+            t = transform::op(&op)?.compose(&t);
+        }
+        Ok(t)
+    }
+}
+
+/// `value="x, y, z"` (or one number for all three) or `x=`, `y=`, `z=` (absent ones are 0).
+fn point(e: &Elem) -> Result<Vec3, SceneError> {
+    let comps = ["x", "y", "z"].map(|n| e.get(n));
+    match e.get("value") {
+        Some(a) if comps.iter().any(Option::is_some) => {
+            Err(e.attr_err(a, "both 'value' and x/y/z attributes; expected one form"))
+        }
+        Some(a) => Ok(Vec3::from(
+            literal::parse_vec3(&a.value).map_err(|m| e.attr_err(a, m))?,
+        )),
+        None if comps.iter().all(Option::is_none) => {
+            Err(e.err("found no coordinates; expected value=\"x, y, z\" or x=, y=, z= attributes"))
+        }
+        None => {
+            let mut v = [0.0f32; 3];
+            for (slot, a) in v.iter_mut().zip(comps) {
+                if let Some(a) = a {
+                    *slot = parse_float(&a.value).map_err(|m| e.attr_err(a, m))? as f32;
+                }
+            }
+            Ok(Vec3::from(v))
+        }
+    }
+}
+
+/// `value=` (constant or pairs) or `filename=` (must exist, relative to the declaring file).
+fn spectrum(e: &Elem, src: &Source) -> Result<SpectrumValue, SceneError> {
+    match (e.get("value"), e.get("filename")) {
+        (Some(a), None) => literal::parse_spectrum(&a.value).map_err(|m| e.attr_err(a, m)),
+        (None, Some(f)) => {
+            let path = src.dir.join(&f.value);
+            if path.is_file() {
+                Ok(SpectrumValue::File(path))
+            } else {
+                Err(e.attr_err(
+                    f,
+                    format!(
+                        "'{}', which is not a readable file; expected a spectrum file",
+                        path.display()
+                    ),
+                ))
+            }
+        }
+        _ => Err(e.err("found neither or both of 'value' and 'filename'; expected exactly one")),
+    }
+}
