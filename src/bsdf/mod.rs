@@ -17,6 +17,9 @@ pub mod plastic;
 pub mod roughconductor;
 pub mod roughdielectric;
 pub mod roughplastic;
+pub mod testing;
+#[cfg(test)]
+mod tests;
 pub mod thindielectric;
 
 pub use material::Material;
