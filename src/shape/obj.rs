@@ -201,4 +201,4 @@ fn parse_i64(t: &[u8]) -> Option<i64> {
 
 #[cfg(test)]
 #[path = "obj_tests.rs"]
-mod tests;
+pub(crate) mod tests;
