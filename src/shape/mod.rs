@@ -54,14 +54,31 @@ pub struct ShapeSample {
 }
 
 pub mod disk;
+pub mod load;
 pub mod mesh;
 pub mod obj;
 pub mod ply;
+pub mod primitives;
 pub mod sphere;
 
 pub use disk::Disk;
-pub use mesh::TriangleMesh;
+pub use load::{LoadError, MeshData, MeshOptions};
+pub use mesh::{MeshError, TriangleMesh};
 pub use sphere::Sphere;
+
+/// Invalid parameters for an analytic shape.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ShapeError {
+    /// The radius is not a positive finite number.
+    #[error("{shape}: radius must be positive and finite, got {radius}")]
+    BadRadius { shape: &'static str, radius: f32 },
+    /// The transform scales differently along different axes where the shape needs a uniform scale.
+    #[error("{shape}: to_world must be a similarity (rotation, translation, uniform scale); its axis scales are {scales:?}")]
+    NonUniformScale { shape: &'static str, scales: [f32; 3] },
+    /// The transform is singular or not finite.
+    #[error("{shape}: to_world is singular or not finite")]
+    BadTransform { shape: &'static str },
+}
 
 /// A shape in the scene.
 #[derive(Clone, Debug)]

@@ -1,0 +1,174 @@
+use super::*;
+use crate::shape::obj::tests::temp_dir;
+
+fn write(name: &str, bytes: &[u8]) -> PathBuf {
+    let p = temp_dir("ply").join(name);
+    std::fs::write(&p, bytes).unwrap();
+    p
+}
+
+/// The unit square as a quad plus a triangle, in every variant below.
+const POS: [[f64; 3]; 5] = [
+    [0.0, 0.0, 0.0],
+    [1.0, 0.0, 0.0],
+    [1.0, 1.0, 0.0],
+    [0.0, 1.0, 0.0],
+    [0.5, 0.5, 1.0],
+];
+
+fn check(d: &MeshData, with_attrs: bool) {
+    assert_eq!(d.positions.len(), 5);
+    assert_eq!(d.positions[2], Vec3::new(1.0, 1.0, 0.0));
+    assert_eq!(d.indices, vec![[0, 1, 2], [0, 2, 3], [0, 1, 4]]);
+    if with_attrs {
+        let n = d.normals.as_ref().unwrap();
+        assert_eq!(n[4], Vec3::new(0.0, 0.0, 1.0));
+        let uv = d.uvs.as_ref().unwrap();
+        assert_eq!(uv[2], Vec2::new(1.0, 1.0));
+    }
+}
+
+#[test]
+fn reads_ascii_with_normals_uvs_and_skipped_elements() {
+    let mut s = String::from(
+        "ply\nformat ascii 1.0\ncomment made by a test\nelement vertex 5\nproperty float x\n\
+         property float y\nproperty float z\nproperty float nx\nproperty float ny\nproperty float nz\n\
+         property float u\nproperty float v\nproperty list uchar int extra\n\
+         element material 1\nproperty uchar r\nelement face 2\nproperty uchar flags\n\
+         property list uchar int vertex_indices\nend_header\n",
+    );
+    for p in POS {
+        s.push_str(&format!("{} {} {} 0 0 1 {} {} 2 7 8\n", p[0], p[1], p[2], p[0], p[1]));
+    }
+    s.push_str("255\n3 4 0 1 2 3\n0 3 0 1 4\n");
+    check(&parse_ply(s.as_bytes(), Path::new("a.ply")).unwrap(), true);
+}
+
+/// A binary file: vertices as (x y z) of `pos_ty`, optional (nx ny nz s t) floats, faces with
+/// an int flag before a `count_ty`/`index_ty` list.
+fn binary(big: bool, pos_ty: &str, count_ty: &str, index_ty: &str, attrs: bool) -> Vec<u8> {
+    let fmt = if big { "binary_big_endian" } else { "binary_little_endian" };
+    let mut h = format!("ply\nformat {fmt} 1.0\nelement vertex 5\n");
+    for c in ["x", "y", "z"] {
+        h.push_str(&format!("property {pos_ty} {c}\n"));
+    }
+    if attrs {
+        for c in ["nx", "ny", "nz", "s", "t"] {
+            h.push_str(&format!("property float32 {c}\n"));
+        }
+    }
+    h.push_str(&format!(
+        "element face 2\nproperty int flags\nproperty list {count_ty} {index_ty} vertex_index\nend_header\n"
+    ));
+    let mut b = h.into_bytes();
+    let put = |b: &mut Vec<u8>, v: f64, ty: &str| {
+        let mut bytes: Vec<u8> = match ty {
+            "float" | "float32" => (v as f32).to_le_bytes().to_vec(),
+            "double" => v.to_le_bytes().to_vec(),
+            "uchar" | "uint8" => vec![v as u8],
+            "ushort" => (v as u16).to_le_bytes().to_vec(),
+            "short" => (v as i16).to_le_bytes().to_vec(),
+            "int" => (v as i32).to_le_bytes().to_vec(),
+            "uint" => (v as u32).to_le_bytes().to_vec(),
+            _ => unreachable!("{ty}"),
+        };
+        if big {
+            bytes.reverse();
+        }
+        b.extend(bytes);
+    };
+    for p in POS {
+        for c in p {
+            put(&mut b, c, pos_ty);
+        }
+        if attrs {
+            for c in [0.0, 0.0, 1.0, p[0], p[1]] {
+                put(&mut b, c, "float32");
+            }
+        }
+    }
+    for face in [&[0.0, 1.0, 2.0, 3.0][..], &[0.0, 1.0, 4.0]] {
+        put(&mut b, -1.0, "int");
+        put(&mut b, face.len() as f64, count_ty);
+        for &i in face {
+            put(&mut b, i, index_ty);
+        }
+    }
+    b
+}
+
+#[test]
+fn reads_binary_little_and_big_endian_with_any_types() {
+    for big in [false, true] {
+        for (pos_ty, ct, it, attrs) in [
+            ("float", "uchar", "int", true),
+            ("double", "ushort", "uint", false),
+            ("float32", "uint8", "short", true),
+        ] {
+            let b = binary(big, pos_ty, ct, it, attrs);
+            let d = parse_ply(&b, Path::new("b.ply")).unwrap_or_else(|e| panic!("{e}"));
+            check(&d, attrs);
+        }
+    }
+}
+
+#[test]
+fn loads_through_the_mesh_constructor() {
+    let p = write("c.ply", &binary(false, "float", "uchar", "int", true));
+    let opts = crate::shape::MeshOptions::default();
+    let m = crate::shape::TriangleMesh::from_ply(&p, &crate::math::Transform::IDENTITY, &opts)
+        .unwrap();
+    assert_eq!(m.triangle_count(), 3);
+    assert!(m.has_vertex_normals() && m.has_uvs());
+}
+
+fn err(name: &str, bytes: &[u8]) -> String {
+    read_ply(&write(name, bytes)).unwrap_err().to_string()
+}
+
+#[test]
+fn truncated_and_garbage_binary_give_errors() {
+    let full = binary(false, "float", "uchar", "int", false);
+    // Cut at every length inside the body: always an error naming the file, never a panic.
+    let body = full.windows(11).position(|w| w == b"end_header\n").unwrap() + 11;
+    for cut in body..full.len() {
+        let e = err("cut.ply", &full[..cut]);
+        assert!(e.contains("cut.ply") && e.contains("truncated"), "{cut}: {e}");
+    }
+    // A huge declared count is rejected before allocating.
+    let huge = String::from_utf8_lossy(&full).replace("element vertex 5", "element vertex 4000000000");
+    let e = err("huge.ply", huge.as_bytes());
+    assert!(e.contains("huge.ply") && e.contains("4000000000"), "{e}");
+    // Flipping bytes of the body yields an error or a mesh, never a panic.
+    let mut rng = crate::math::Pcg32::new(3, 3);
+    for _ in 0..500 {
+        let mut g = full.clone();
+        let k = body + (rng.next_u32() as usize) % (full.len() - body);
+        g[k] = rng.next_u32() as u8;
+        let _ = parse_ply(&g, Path::new("g.ply"));
+    }
+}
+
+#[test]
+fn header_and_data_errors_name_file_and_line() {
+    let e = err("garbage.ply", b"\x00\x01binary junk");
+    assert!(e.contains("garbage.ply:1:") && e.contains("not a PLY"), "{e}");
+    let e = err("type.ply", b"ply\nformat ascii 1.0\nelement vertex 1\nproperty flot x\nend_header\n");
+    assert!(e.contains("type.ply:4:") && e.contains("unknown property type"), "{e}");
+    let e = err("nohdr.ply", b"ply\nformat ascii 1.0\nelement vertex 1\n");
+    assert!(e.contains("nohdr.ply") && e.contains("end_header"), "{e}");
+    let head = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
+                property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+    let e = err("num.ply", format!("{head}0 0 0\n1 0 0\n0 1 zero\n3 0 1 2\n").as_bytes());
+    assert!(e.contains("num.ply:12:") && e.contains("`zero`"), "{e}");
+    let e = err("idx.ply", format!("{head}0 0 0\n1 0 0\n0 1 0\n3 0 1 9\n").as_bytes());
+    assert!(e.contains("idx.ply:13:") && e.contains("out of range"), "{e}");
+    let e = err("noface.ply", b"ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 0\n");
+    assert!(e.contains("noface.ply") && e.contains("no faces"), "{e}");
+    let e = err("noxyz.ply", b"ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nend_header\n0\n");
+    assert!(e.contains("noxyz.ply:3:") && e.contains("x, y and z"), "{e}");
+    let dir = temp_dir("ply");
+    assert!(read_ply(&dir).unwrap_err().to_string().contains("is a directory"));
+    let e = read_ply(&dir.join("missing.ply")).unwrap_err().to_string();
+    assert!(e.contains("missing.ply") && e.contains("cannot read"), "{e}");
+}
