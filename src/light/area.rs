@@ -1,0 +1,99 @@
+//! Diffuse area light (Mitsuba `area`, attached to a shape): constant radiance L(λ) leaving the
+//! front side of the shape (the side its geometric normal points to), nothing from the back.
+//!
+//! | XML name   | type     | default | unit                  |
+//! |------------|----------|---------|-----------------------|
+//! | `radiance` | spectrum | 1       | W·m⁻²·sr⁻¹(·nm⁻¹)     |
+//!
+//! Sampling delegates to [`Shape::sample_direct`] (solid-angle density as seen from the shading
+//! point: cone sampling for spheres, uniform area otherwise) and [`Shape::pdf_direct`].
+//!
+//! Known limits: one-sided only (Mitsuba has no two-sided `area`); textured radiance is not
+//! supported; the power estimate π A L assumes a flat-ish emitter.
+
+use super::{LightLiSample, LightSampleContext};
+use crate::math::{Vec2, Vec3, PI};
+use crate::shape::{Shape, SurfaceInteraction};
+use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
+
+/// An emitter attached to one shape of the scene.
+#[derive(Clone, Debug)]
+pub struct AreaLight {
+    /// Index of the emitting shape in the scene's shape list.
+    pub shape: u32,
+    pub radiance: Spectrum,
+}
+
+impl AreaLight {
+    /// Emission `radiance` from the front of shape `shape_index`.
+    pub fn new(shape_index: u32, radiance: Spectrum) -> AreaLight {
+        AreaLight {
+            shape: shape_index,
+            radiance,
+        }
+    }
+
+    pub(crate) fn sample_li(
+        &self,
+        ctx: &LightSampleContext,
+        u: Vec2,
+        wl: &SampledWavelengths,
+        shapes: &[Shape],
+    ) -> Option<LightLiSample> {
+        let shape = shapes.get(self.shape as usize)?;
+        let ss = shape.sample_direct(ctx.p, u)?;
+        let d = ss.p - ctx.p;
+        let dist2 = d.length_squared();
+        if !(ss.pdf > 0.0 && ss.pdf.is_finite() && dist2 > 0.0) {
+            return None;
+        }
+        let wi = d / dist2.sqrt();
+        // One-sided: only the side the normal points to emits.
+        if ss.n.dot(-wi) <= 0.0 {
+            return None;
+        }
+        Some(LightLiSample {
+            l: self.radiance.sample(wl),
+            wi,
+            pdf: ss.pdf,
+            p_light: ss.p,
+            is_delta: false,
+        })
+    }
+
+    pub(crate) fn pdf_li(
+        &self,
+        ctx: &LightSampleContext,
+        hit: &SurfaceInteraction,
+        shapes: &[Shape],
+    ) -> f32 {
+        if hit.shape != self.shape {
+            return 0.0;
+        }
+        shapes
+            .get(self.shape as usize)
+            .map_or(0.0, |s| s.pdf_direct(ctx.p, hit.p, hit.ng))
+    }
+
+    pub(crate) fn l(
+        &self,
+        si: &SurfaceInteraction,
+        w: Vec3,
+        wl: &SampledWavelengths,
+    ) -> SampledSpectrum {
+        if si.ng.dot(w) > 0.0 {
+            self.radiance.sample(wl)
+        } else {
+            SampledSpectrum::ZERO
+        }
+    }
+
+    /// π A L: the power of a one-sided Lambertian emitter of area A.
+    pub(crate) fn power(&self, shapes: &[Shape]) -> f32 {
+        let area = shapes.get(self.shape as usize).map_or(0.0, Shape::area);
+        PI * area * super::spectrum_mean(&self.radiance)
+    }
+}
+
+#[cfg(test)]
+mod tests;

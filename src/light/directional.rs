@@ -1,0 +1,98 @@
+//! Directional light (Mitsuba `directional`): a light at infinity whose parallel rays deliver
+//! irradiance E(λ) to a surface perpendicular to them.
+//!
+//! | XML name     | type     | default  | unit                                            |
+//! |--------------|----------|----------|-------------------------------------------------|
+//! | `irradiance` | spectrum | 1        | W·m⁻²(·nm⁻¹)                                    |
+//! | `direction`  | vector   | (0,0,1)  | the direction the light travels; or `to_world` applied to local +z |
+//!
+//! Known limits: a delta light (next-event estimation only); the visibility point is placed
+//! beyond the scene's bounding sphere, so [`super::Light::preprocess`] must be called first.
+
+use super::{point_at_infinity, LightLiSample, LightSampleContext};
+use crate::math::{Vec3, PI};
+use crate::spectrum::{SampledWavelengths, Spectrum};
+
+/// A directional light.
+#[derive(Clone, Debug)]
+pub struct DirectionalLight {
+    /// Unit direction in which the light travels.
+    pub direction: Vec3,
+    pub irradiance: Spectrum,
+    center: Vec3,
+    radius: f32,
+}
+
+impl DirectionalLight {
+    /// A light travelling along `direction` (normalised here; `None` if zero or not finite).
+    pub fn new(direction: Vec3, irradiance: Spectrum) -> Option<DirectionalLight> {
+        let d = direction.normalize_or_zero();
+        (d != Vec3::ZERO).then_some(DirectionalLight {
+            direction: d,
+            irradiance,
+            center: Vec3::ZERO,
+            radius: 1.0,
+        })
+    }
+
+    pub(crate) fn set_scene_sphere(&mut self, c: Vec3, r: f32) {
+        self.center = c;
+        self.radius = r;
+    }
+
+    pub(crate) fn sample_li(
+        &self,
+        ctx: &LightSampleContext,
+        wl: &SampledWavelengths,
+    ) -> Option<LightLiSample> {
+        let wi = -self.direction;
+        Some(LightLiSample {
+            l: self.irradiance.sample(wl),
+            wi,
+            pdf: 1.0,
+            p_light: point_at_infinity(ctx.p, wi, self.center, self.radius),
+            is_delta: true,
+        })
+    }
+
+    /// Power through the scene's bounding disk.
+    pub(crate) fn power(&self) -> f32 {
+        PI * self.radius * self.radius * super::spectrum_mean(&self.irradiance)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::test_util::wl;
+    use super::super::{Light, LightSampleContext};
+    use super::*;
+    use crate::math::{Bounds3, Vec2};
+
+    #[test]
+    fn is_a_delta_light_at_infinity() {
+        let dl = DirectionalLight::new(Vec3::new(0.0, 0.0, -2.0), Spectrum::Constant(3.0)).unwrap();
+        let mut light = Light::Directional(dl);
+        assert!(light.is_delta() && light.is_infinite());
+        let mut b = Bounds3::from_point(Vec3::splat(-1.0));
+        b.grow(Vec3::splat(1.0));
+        light.preprocess(&b);
+        let ctx = LightSampleContext {
+            p: Vec3::new(0.5, 0.0, 0.0),
+            n: Vec3::Z,
+        };
+        let s = light
+            .sample_li(&ctx, Vec2::new(0.3, 0.7), &wl(), &[])
+            .unwrap();
+        assert!(s.is_delta && s.pdf == 1.0);
+        assert!((s.wi - Vec3::Z).length() < 1e-6);
+        assert_eq!(s.l[2], 3.0);
+        // The visibility point lies outside the bounding sphere (radius √3).
+        assert!(
+            s.p_light.length() > 3f32.sqrt()
+                && (s.p_light - ctx.p).normalize().dot(Vec3::Z) > 0.999
+        );
+        assert_eq!(light.pdf_li(&ctx, Vec3::Z, &[], None), 0.0);
+        assert!(light.le(Vec3::Z, &wl()).is_black());
+        assert!(DirectionalLight::new(Vec3::ZERO, Spectrum::Constant(1.0)).is_none());
+    }
+}

@@ -1,0 +1,237 @@
+//! Image-based environment light (Mitsuba `envmap`): radiance at infinity from a
+//! latitude–longitude (equirectangular) image, importance-sampled by a piecewise-constant 2D
+//! distribution over the texels (Pharr, Jakob & Humphreys, "Physically Based Rendering", 3rd ed.,
+//! §14.2.4).
+//!
+//! | XML name   | type      | default  | unit                                           |
+//! |------------|-----------|----------|------------------------------------------------|
+//! | `filename` | string    | —        | OpenEXR, Radiance HDR or PNG, linear RGB radiance |
+//! | `scale`    | float     | 1        | multiplies every texel                         |
+//! | `to_world` | transform | identity | rotation from the map's frame to the world      |
+//!
+//! Mapping (Mitsuba 3's convention, y up): a unit direction d in the map's frame has
+//! u = atan2(d.x, −d.z) / 2π (mod 1) and v = acos(d.y) / π, with (u, v) = (0, 0) at the left of
+//! the top row; conversely d = (sin φ sin θ, cos θ, −cos φ sin θ) with φ = 2πu, θ = πv. So the top
+//! row is the +y pole, the left edge and the centre column face −z and +z, and a quarter of the
+//! width in faces +x.
+//!
+//! Each texel's RGB is uplifted as an emission (Jakob & Hanika 2019 sigmoid times D65, the same
+//! semantics as [`Spectrum::rgb_illuminant`]); a texel stores its sigmoid coefficients and scale.
+//! Texels are looked up nearest (piecewise constant), exactly the density the sampler uses:
+//! the pdf in (u, v) is proportional to luminance × sin θ of the texel's centre row, and the
+//! solid-angle pdf is p(u, v) / (2π² sin θ).
+//!
+//! Known limits: Mitsuba 3 interpolates bilinearly with texel centres shifted by half a texel, so
+//! renders differ from Mitsuba's at texel scale; `to_world` should be a rotation (scale or shear
+//! would change the density without being accounted for).
+
+use super::distribution::Distribution2D;
+use super::{point_at_infinity, LightLiSample, LightSampleContext};
+use crate::image_io::RgbImage;
+use crate::math::{Transform, Vec2, Vec3, PI};
+use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
+
+/// Why an environment map cannot be built.
+#[derive(Debug, thiserror::Error)]
+pub enum EnvMapError {
+    #[error("environment map is empty ({width} × {height})")]
+    Empty { width: usize, height: usize },
+    #[error("environment map has {got} texels, expected {width} × {height}")]
+    SizeMismatch {
+        width: usize,
+        height: usize,
+        got: usize,
+    },
+}
+
+/// An importance-sampled lat–long environment map.
+#[derive(Clone, Debug)]
+pub struct EnvMapLight {
+    width: usize,
+    height: usize,
+    /// Per-texel emitted spectrum (before `scale`).
+    texels: Vec<Spectrum>,
+    dist: Distribution2D,
+    scale: f32,
+    to_world: Transform,
+    to_local: Transform,
+    /// ∫ luminance dω over the sphere (times `scale`), for the power estimate.
+    luminance_integral: f32,
+    center: Vec3,
+    radius: f32,
+}
+
+/// Rec. 709 luminance of linear sRGB.
+fn luminance(c: [f32; 3]) -> f32 {
+    0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]
+}
+
+/// Direction in the map's frame → (u, v) ∈ [0, 1]².
+pub fn direction_to_uv(d: Vec3) -> Vec2 {
+    let mut u = d.x.atan2(-d.z) * (0.5 / PI);
+    if u < 0.0 {
+        u += 1.0;
+    }
+    Vec2::new(u.min(1.0), crate::math::safe_acos(d.y) / PI)
+}
+
+/// (u, v) → unit direction in the map's frame.
+pub fn uv_to_direction(uv: Vec2) -> Vec3 {
+    let (sin_phi, cos_phi) = (2.0 * PI * uv.x).sin_cos();
+    let (sin_theta, cos_theta) = (PI * uv.y).sin_cos();
+    Vec3::new(sin_phi * sin_theta, cos_theta, -cos_phi * sin_theta)
+}
+
+impl EnvMapLight {
+    /// An environment light from a linear-RGB lat–long image; texels are uplifted to spectra.
+    pub fn new(
+        image: RgbImage,
+        scale: f32,
+        to_world: Transform,
+    ) -> Result<EnvMapLight, EnvMapError> {
+        Self::check(image.width, image.height, image.data.len())?;
+        let clean = |c: [f32; 3]| c.map(|v| if v.is_finite() { v.max(0.0) } else { 0.0 });
+        let weights: Vec<f32> = image.data.iter().map(|&c| luminance(clean(c))).collect();
+        let texels = image
+            .data
+            .iter()
+            .map(|&c| Spectrum::rgb_illuminant(clean(c)))
+            .collect();
+        Ok(Self::from_texels(
+            image.width,
+            image.height,
+            texels,
+            &weights,
+            scale,
+            to_world,
+        ))
+    }
+
+    fn check(width: usize, height: usize, got: usize) -> Result<(), EnvMapError> {
+        if width == 0 || height == 0 {
+            return Err(EnvMapError::Empty { width, height });
+        }
+        if got != width * height {
+            return Err(EnvMapError::SizeMismatch { width, height, got });
+        }
+        Ok(())
+    }
+
+    /// Builds from per-texel spectra and their sampling weights (luminance), row-major, top row
+    /// first.
+    fn from_texels(
+        width: usize,
+        height: usize,
+        texels: Vec<Spectrum>,
+        luminance: &[f32],
+        scale: f32,
+        to_world: Transform,
+    ) -> EnvMapLight {
+        let scale = if scale.is_finite() {
+            scale.max(0.0)
+        } else {
+            0.0
+        };
+        let mut weights = vec![0.0; width * height];
+        let mut integral = 0.0f64;
+        let d_phi = 2.0 * std::f64::consts::PI / width as f64;
+        for y in 0..height {
+            let sin_theta = (PI * (y as f32 + 0.5) / height as f32).sin();
+            let t0 = std::f64::consts::PI * y as f64 / height as f64;
+            let t1 = std::f64::consts::PI * (y + 1) as f64 / height as f64;
+            let solid_angle = d_phi * (t0.cos() - t1.cos());
+            for x in 0..width {
+                let l = luminance[y * width + x];
+                weights[y * width + x] = l * sin_theta;
+                integral += l as f64 * solid_angle;
+            }
+        }
+        EnvMapLight {
+            width,
+            height,
+            texels,
+            dist: Distribution2D::new(&weights, width, height),
+            scale,
+            to_world,
+            to_local: to_world.inverse(),
+            luminance_integral: (integral * scale as f64) as f32,
+            center: Vec3::ZERO,
+            radius: 1.0,
+        }
+    }
+
+    pub(crate) fn set_scene_sphere(&mut self, c: Vec3, r: f32) {
+        self.center = c;
+        self.radius = r;
+    }
+
+    /// The texel holding (u, v) (nearest lookup).
+    #[inline]
+    fn texel(&self, uv: Vec2) -> usize {
+        let x = ((uv.x * self.width as f32) as usize).min(self.width - 1);
+        let y = ((uv.y * self.height as f32) as usize).min(self.height - 1);
+        y * self.width + x
+    }
+
+    fn local(&self, dir: Vec3) -> Vec3 {
+        self.to_local.vector(dir).normalize_or_zero()
+    }
+
+    fn radiance_uv(&self, uv: Vec2, wl: &SampledWavelengths) -> SampledSpectrum {
+        self.texels[self.texel(uv)].sample(wl) * self.scale
+    }
+
+    /// Radiance seen along the escaping direction `dir` (world space).
+    pub fn le(&self, dir: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
+        let d = self.local(dir);
+        if d == Vec3::ZERO {
+            return SampledSpectrum::ZERO;
+        }
+        self.radiance_uv(direction_to_uv(d), wl)
+    }
+
+    /// Solid-angle density of [`Self::sample_li`] producing the world direction `wi`.
+    pub fn pdf_li(&self, wi: Vec3) -> f32 {
+        let d = self.local(wi);
+        let sin_theta = (d.x * d.x + d.z * d.z).sqrt();
+        if sin_theta.is_nan() || sin_theta <= 0.0 {
+            return 0.0;
+        }
+        self.dist.pdf(direction_to_uv(d)) / (2.0 * PI * PI * sin_theta)
+    }
+
+    pub(crate) fn sample_li(
+        &self,
+        ctx: &LightSampleContext,
+        u: Vec2,
+        wl: &SampledWavelengths,
+    ) -> Option<LightLiSample> {
+        let (uv, _, _) = self.dist.sample(u);
+        let wi = self
+            .to_world
+            .vector(uv_to_direction(uv))
+            .normalize_or_zero();
+        // Radiance and density are re-derived from the direction, so that they agree exactly
+        // with what `le` and `pdf_li` report for it.
+        let pdf = self.pdf_li(wi);
+        if !(pdf > 0.0 && pdf.is_finite()) {
+            return None;
+        }
+        let l = self.le(wi, wl);
+        Some(LightLiSample {
+            l,
+            wi,
+            pdf,
+            p_light: point_at_infinity(ctx.p, wi, self.center, self.radius),
+            is_delta: false,
+        })
+    }
+
+    /// Power falling on the scene's bounding sphere: π r² ∫ luminance dω.
+    pub(crate) fn power(&self) -> f32 {
+        PI * self.radius * self.radius * self.luminance_integral
+    }
+}
+
+#[cfg(test)]
+mod tests;
