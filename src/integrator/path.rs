@@ -7,7 +7,7 @@
 //! (Mitsuba's −1) leaves termination to Russian roulette (with a safety cap far beyond where
 //! energy matters).
 
-use crate::bsdf::{Bsdf, TransportMode};
+use crate::bsdf::{Bsdf, Material, TransportMode};
 use crate::light::LightSampleContext;
 use crate::math::{power_heuristic, Frame, Ray, Vec3};
 use crate::sampler::Sampler;
@@ -43,6 +43,7 @@ pub fn radiance(scene: &Scene, mut ray: Ray, wl: &SampledWavelengths, sampler: &
     let use_nee = strategy != PathStrategy::BsdfOnly;
     let use_bsdf_hits = strategy != PathStrategy::LightOnly;
     let mut depth = 0u32;
+    let mut null_crossings = 0u32;
 
     loop {
         let Some((_hit, si)) = scene.intersect(&ray) else {
@@ -79,12 +80,23 @@ pub fn radiance(scene: &Scene, mut ray: Ray, wl: &SampledWavelengths, sampler: &
             }
         }
 
+        let material = &scene.materials[scene.shape_material[si.shape as usize] as usize];
+        if matches!(material, Material::Null) {
+            // Mitsuba's `null` BSDF: the surface only marks a boundary (or an emitter); the
+            // path continues unchanged and the crossing does not count as a bounce.
+            null_crossings += 1;
+            if null_crossings > SAFETY_DEPTH {
+                break;
+            }
+            ray = Ray::spawn(si.p, si.ng, ray.d);
+            continue;
+        }
+
         depth += 1;
         if depth >= max_depth {
             break;
         }
 
-        let material = &scene.materials[scene.shape_material[si.shape as usize] as usize];
         let front = si.ng.dot(wo) >= 0.0;
         let tc = TexCoord { uv: si.uv, p: si.p };
         let (bxdf, two_sided) = material.eval(&tc, wl, front);

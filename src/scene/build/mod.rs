@@ -115,7 +115,8 @@ fn build_scene(root: &Node, opts: &LoadOptions, warnings: &mut Vec<Warning>) -> 
         l.preprocess(&bounds);
     }
     let infinite_lights = b.lights.iter().enumerate().filter(|(_, l)| l.is_infinite()).map(|(i, _)| i as u32).collect();
-    let light_sampler = LightSampler::new(&b.lights);
+    let powers: Vec<f32> = b.lights.iter().map(|l| l.power(&b.shapes)).collect();
+    let light_sampler = LightSampler::new(&powers);
     if b.lights.is_empty() {
         warnings.push(Warning { loc: root.loc.clone(), message: "the scene has no emitters: the image will be black".into() });
     }
