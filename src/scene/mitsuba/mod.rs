@@ -186,9 +186,10 @@ impl Node {
 }
 
 pub(crate) fn describe(tag: Tag, plugin: &str, id: Option<&str>) -> String {
-    match id {
-        Some(id) => format!("{tag} '{plugin}' (id '{id}')"),
-        None => format!("{tag} '{plugin}'"),
+    match (tag, id) {
+        (Tag::Scene, _) => "the scene".to_string(),
+        (_, Some(id)) => format!("{tag} '{plugin}' (id '{id}')"),
+        (_, None) => format!("{tag} '{plugin}'"),
     }
 }
 

@@ -90,9 +90,13 @@ impl Elem {
         for a in node.attributes().filter(|a| a.namespace().is_none()) {
             let aloc = src.loc(a.range().start);
             let value = literal::substitute(a.value(), params).map_err(|m| {
+                let what = match node.attribute("name") {
+                    Some(n) => format!("<{tag} name=\"{n}\">"),
+                    None => format!("<{tag}>"),
+                };
                 SceneError::at(
                     &aloc,
-                    format!("<{tag}>: attribute '{}': found {m}", a.name()),
+                    format!("{what}: attribute '{}': found {m}", a.name()),
                 )
             })?;
             attrs.push(Attr {
@@ -247,9 +251,15 @@ fn parse_doc<'i>(text: &'i str, file: &Arc<PathBuf>) -> Result<Document<'i>, Sce
         let pos = e.pos();
         let msg = e.to_string();
         let suffix = format!(" at {}:{}", pos.row, pos.col);
+        let mut message = msg.strip_suffix(&suffix).unwrap_or(&msg).to_string();
+        if matches!(e, roxmltree::Error::UnclosedRootNode) {
+            // The parser points at the root; say where the text stopped too.
+            let lines = text.split('\n').count();
+            message.push_str(&format!(" (the file ends on line {lines}; truncated?)"));
+        }
         SceneError::Xml {
             loc: at(pos.row, pos.col),
-            message: msg.strip_suffix(&suffix).unwrap_or(&msg).to_string(),
+            message,
         }
     })
 }
