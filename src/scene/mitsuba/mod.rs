@@ -39,11 +39,13 @@
 //! stops), except inside `<transform>`, where skipping an operation would silently move geometry;
 //! `<ref>` must follow the object it names; only `<scene>` roots are accepted.
 
+mod element;
 mod error;
 mod literal;
 mod properties;
 mod reader;
 mod transform;
+mod value_tags;
 
 #[cfg(test)]
 mod tests;
