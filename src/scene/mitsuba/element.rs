@@ -1,6 +1,7 @@
 //! One parsed file (byte offsets → line:column) and its elements with `$name`-substituted
 //! attributes, plus the message helpers that name the element.
 
+use std::cell::Cell;
 use std::collections::HashMap;
 use std::fmt::Display;
 use std::path::PathBuf;
@@ -19,6 +20,10 @@ pub struct Source<'d, 'i> {
     pub dir: PathBuf,
     /// Whether this is a 0.x file whose names get upgraded.
     pub upgrade: bool,
+    /// The last position computed (byte, line, column): positions are asked for in document
+    /// order, so columns are counted on from there instead of from the line start, which keeps
+    /// a huge one-line file linear rather than quadratic.
+    cursor: Cell<(usize, usize, usize)>,
 }
 
 impl<'d, 'i> Source<'d, 'i> {
@@ -34,6 +39,7 @@ impl<'d, 'i> Source<'d, 'i> {
             file,
             dir,
             upgrade: false,
+            cursor: Cell::new((0, 1, 1)),
         }
     }
 
@@ -42,8 +48,14 @@ impl<'d, 'i> Source<'d, 'i> {
         let text = self.doc.input_text();
         let byte = byte.min(text.len());
         let line = self.line_starts.partition_point(|&s| s <= byte).max(1);
-        let start = self.line_starts[line - 1];
-        let col = text.get(start..byte).map_or(0, |s| s.chars().count()) + 1;
+        let (c_byte, c_line, c_col) = self.cursor.get();
+        let col = if c_line == line && c_byte <= byte {
+            c_col + text.get(c_byte..byte).map_or(0, |s| s.chars().count())
+        } else {
+            let start = self.line_starts[line - 1];
+            1 + text.get(start..byte).map_or(0, |s| s.chars().count())
+        };
+        self.cursor.set((byte, line, col));
         Location {
             file: self.file.clone(),
             line: line as u32,

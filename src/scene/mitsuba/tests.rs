@@ -76,6 +76,18 @@ fn objects_children_refs_and_aliases() {
 }
 
 #[test]
+fn spectrum_with_type_is_an_object() {
+    let (root, _) = load(&scene(
+        r#"<emitter type="area"><spectrum type="regular" name="radiance">
+  <float name="wavelength_min" value="400"/></spectrum></emitter>"#,
+    ))
+    .unwrap();
+    let s = root.children[0].node.child("radiance").unwrap();
+    assert_eq!((s.tag, s.plugin.as_str()), (Tag::Spectrum, "regular"));
+    assert_eq!(s.props.get_float("wavelength_min", 0.0).unwrap(), 400.0);
+}
+
+#[test]
 fn reference_errors() {
     let e = load(&scene(
         "<shape type=\"sphere\">\n<ref id=\"nope\"/>\n</shape>",
@@ -333,4 +345,17 @@ fn tree_is_send_and_sync() {
     fn check<T: Send + Sync>() {}
     check::<Node>();
     check::<SceneError>();
+}
+
+#[test]
+fn columns_on_one_long_line_count_characters() {
+    // Many elements on one line, with a multi-byte character before them.
+    let shapes = "<shape type=\"é\"/>".repeat(2000);
+    let xml = format!("<scene version=\"3.0.0\">{shapes}<float name=\"r\" value=\"x\"/></scene>");
+    let e = load(&xml).unwrap_err();
+    let col = 1 + "<scene version=\"3.0.0\">".len() + 2000 * "<shape type=\"é\"/>".chars().count();
+    assert_eq!(
+        e.location().unwrap().col as usize,
+        col + "<float name=\"r\" ".len()
+    );
 }
