@@ -140,3 +140,38 @@ fn a_large_grid_parses_quickly() {
     assert_eq!(d.indices.len(), 2 * n * n);
     assert_eq!(d.positions.len(), (n + 1) * (n + 1));
 }
+
+/// Load time for a one-million-triangle file: `cargo test --lib obj_load_time -- --ignored
+/// --nocapture`.
+#[test]
+#[ignore]
+fn obj_load_time_1m() {
+    use std::fmt::Write;
+    let n = 708;
+    let mut s = String::with_capacity(60 << 20);
+    for j in 0..=n {
+        for i in 0..=n {
+            let (x, y) = (i as f32 / n as f32, j as f32 / n as f32);
+            writeln!(s, "v {x} {y} {}", (7.0 * x).sin() * 0.1).unwrap();
+            writeln!(s, "vt {x} {y}").unwrap();
+        }
+    }
+    for j in 0..n {
+        for i in 0..n {
+            let a = j * (n + 1) + i + 1;
+            let (b, c, d) = (a + 1, a + n + 2, a + n + 1);
+            writeln!(s, "f {a}/{a} {b}/{b} {c}/{c}\nf {a}/{a} {c}/{c} {d}/{d}").unwrap();
+        }
+    }
+    let p = temp_dir("obj-time").join("grid.obj");
+    std::fs::write(&p, &s).unwrap();
+    let t0 = std::time::Instant::now();
+    let d = read_obj(&p).unwrap();
+    println!(
+        "{} triangles, {} MB: {:?}",
+        d.indices.len(),
+        s.len() >> 20,
+        t0.elapsed()
+    );
+    assert_eq!(d.indices.len(), 2 * n * n);
+}
