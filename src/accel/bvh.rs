@@ -295,7 +295,7 @@ fn median_split(refs: &mut [Ref], cb: &Bounds3) -> usize {
 fn sah_split(refs: &mut [Ref], bounds: &Bounds3, cb: &Bounds3) -> Split {
     let n = refs.len();
     let ext = cb.extent();
-    if !(ext.max_element() > 0.0) {
+    if ext.max_element().is_nan() || ext.max_element() <= 0.0 {
         // All centroids coincide: no plane separates them.
         return if n <= MAX_LEAF {
             Split::Leaf

@@ -120,7 +120,7 @@ impl Disk {
         let local = warp::square_to_uniform_disk_concentric(u);
         let p = self.to_world.point(Vec3::new(local.x, local.y, 0.0));
         let pdf = area_to_solid_angle(1.0 / self.area, ref_p, p, self.normal);
-        if !(pdf > 0.0) || !pdf.is_finite() {
+        if !super::positive_finite(pdf) {
             return None;
         }
         let (uv, _, _) = self.parametrise(local);
@@ -161,7 +161,11 @@ mod tests {
             &ray,
         );
         assert!((si.p - Vec3::new(0.0, 1.5, 2.0)).length() < 1e-6);
-        assert!((si.uv - Vec2::new(0.5, 0.25)).length() < 1e-6, "{:?}", si.uv);
+        assert!(
+            (si.uv - Vec2::new(0.5, 0.25)).length() < 1e-6,
+            "{:?}",
+            si.uv
+        );
         assert!((si.ng - Vec3::Z).length() < 1e-6);
         assert!((d.area() - 9.0 * PI).abs() < 1e-4);
         assert!(d
@@ -196,6 +200,9 @@ mod tests {
         let sigma = ((s2 / n as f64 - mean * mean) / n as f64).sqrt();
         let (rad, h) = (rad as f64, h as f64);
         let want = 2.0 * std::f64::consts::PI * (1.0 - h / (h * h + rad * rad).sqrt());
-        assert!((mean - want).abs() < 4.0 * sigma, "{mean} ± {sigma} vs {want}");
+        assert!(
+            (mean - want).abs() < 4.0 * sigma,
+            "{mean} ± {sigma} vs {want}"
+        );
     }
 }

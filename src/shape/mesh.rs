@@ -47,7 +47,9 @@ pub enum MeshError {
     #[error("vertex {0} has a non-finite position")]
     NonFinite(usize),
     /// No triangle with positive area remains.
-    #[error("the mesh has no triangles with non-zero area ({dropped} degenerate triangles dropped)")]
+    #[error(
+        "the mesh has no triangles with non-zero area ({dropped} degenerate triangles dropped)"
+    )]
     Empty { dropped: usize },
 }
 
@@ -138,7 +140,7 @@ impl TriangleMesh {
             }
             let [a, b, c] = tri.map(|k| positions[k as usize]);
             let area = 0.5 * (b - a).cross(c - a).length();
-            if !(area > 0.0) {
+            if !super::positive_finite(area) {
                 continue;
             }
             bounds.grow(a);
@@ -298,15 +300,10 @@ impl TriangleMesh {
         let uvc = self.uv_corners(tri);
         let uv = b0 * uvc[0] + b1 * uvc[1] + b2 * uvc[2];
         let pdf = area_to_solid_angle(1.0 / self.area, ref_p, pos, n);
-        if !(pdf > 0.0) || !pdf.is_finite() {
+        if !super::positive_finite(pdf) {
             return None;
         }
-        Some(ShapeSample {
-            p: pos,
-            n,
-            uv,
-            pdf,
-        })
+        Some(ShapeSample { p: pos, n, uv, pdf })
     }
 
     /// Solid-angle density of [`TriangleMesh::sample_direct`] choosing `p` (normal `n`).

@@ -27,10 +27,22 @@ fn rectangle_has_mitsuba_uvs_normal_and_tangents() {
     let si = hit_prim(&m, &ray).unwrap();
     assert!((si.t - 3.0).abs() < 1e-6);
     assert!((si.p - Vec3::new(0.5, -0.25, 0.0)).length() < 1e-6);
-    assert!((si.uv - Vec2::new(0.75, 0.375)).length() < 1e-6, "{:?}", si.uv);
+    assert!(
+        (si.uv - Vec2::new(0.75, 0.375)).length() < 1e-6,
+        "{:?}",
+        si.uv
+    );
     assert!((si.ng - Vec3::Z).length() < 1e-6 && (si.ns - Vec3::Z).length() < 1e-6);
-    assert!((si.dpdu - Vec3::new(2.0, 0.0, 0.0)).length() < 1e-5, "{}", si.dpdu);
-    assert!((si.dpdv - Vec3::new(0.0, 2.0, 0.0)).length() < 1e-5, "{}", si.dpdv);
+    assert!(
+        (si.dpdu - Vec3::new(2.0, 0.0, 0.0)).length() < 1e-5,
+        "{}",
+        si.dpdu
+    );
+    assert!(
+        (si.dpdv - Vec3::new(0.0, 2.0, 0.0)).length() < 1e-5,
+        "{}",
+        si.dpdv
+    );
     let flipped = TriangleMesh::rectangle(&Transform::IDENTITY, true).unwrap();
     assert!((hit_prim(&flipped, &ray).unwrap().ng + Vec3::Z).length() < 1e-6);
     // A mirroring transform keeps the front on the +z side.
@@ -66,12 +78,31 @@ fn cube_normals_point_outwards_with_face_uvs() {
 fn construction_validates_and_drops_degenerate_triangles() {
     let p = vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::new(2.0, 0.0, 0.0)];
     let id = Transform::IDENTITY;
-    let m = TriangleMesh::new(p.clone(), None, None, vec![[0, 1, 2], [0, 1, 3]], &id, false, false)
-        .unwrap();
+    let m = TriangleMesh::new(
+        p.clone(),
+        None,
+        None,
+        vec![[0, 1, 2], [0, 1, 3]],
+        &id,
+        false,
+        false,
+    )
+    .unwrap();
     assert_eq!((m.triangle_count(), m.degenerate_dropped()), (1, 1));
     let e = TriangleMesh::new(p.clone(), None, None, vec![[0, 1, 4]], &id, false, false);
-    assert!(matches!(e, Err(MeshError::IndexOutOfRange { index: 4, .. })), "{e:?}");
-    let e = TriangleMesh::new(p.clone(), Some(vec![Vec3::Z]), None, vec![[0, 1, 2]], &id, false, false);
+    assert!(
+        matches!(e, Err(MeshError::IndexOutOfRange { index: 4, .. })),
+        "{e:?}"
+    );
+    let e = TriangleMesh::new(
+        p.clone(),
+        Some(vec![Vec3::Z]),
+        None,
+        vec![[0, 1, 2]],
+        &id,
+        false,
+        false,
+    );
     assert!(matches!(e, Err(MeshError::AttributeLength { .. })));
     let e = TriangleMesh::new(p.clone(), None, None, vec![[0, 1, 3]], &id, false, false);
     assert!(matches!(e, Err(MeshError::Empty { dropped: 1 })));
@@ -86,17 +117,37 @@ fn shading_normals_interpolate_and_default_uvs_follow_mitsuba() {
     let p = vec![Vec3::ZERO, Vec3::X, Vec3::Y];
     let n = vec![Vec3::Z, Vec3::new(1.0, 0.0, 1.0), Vec3::new(0.0, 1.0, 1.0)];
     let id = Transform::IDENTITY;
-    let m = TriangleMesh::new(p.clone(), Some(n.clone()), None, vec![[0, 1, 2]], &id, false, false)
-        .unwrap();
+    let m = TriangleMesh::new(
+        p.clone(),
+        Some(n.clone()),
+        None,
+        vec![[0, 1, 2]],
+        &id,
+        false,
+        false,
+    )
+    .unwrap();
     let ray = Ray::new(Vec3::new(0.25, 0.25, 1.0), -Vec3::Z);
     let si = hit_prim(&m, &ray).unwrap();
     let (b1, b2) = (0.25f32, 0.25f32);
     let want = ((1.0 - b1 - b2) * n[0] + b1 * n[1].normalize() + b2 * n[2].normalize()).normalize();
     assert!((si.ns - want).length() < 1e-5, "{} vs {want}", si.ns);
     // Default UVs (0,0), (1,0), (1,1): uv = (b1 + b2, b2).
-    assert!((si.uv - Vec2::new(0.5, 0.25)).length() < 1e-6, "{:?}", si.uv);
-    let flat = TriangleMesh::new(p.clone(), Some(n.clone()), None, vec![[0, 1, 2]], &id, false, true)
-        .unwrap();
+    assert!(
+        (si.uv - Vec2::new(0.5, 0.25)).length() < 1e-6,
+        "{:?}",
+        si.uv
+    );
+    let flat = TriangleMesh::new(
+        p.clone(),
+        Some(n.clone()),
+        None,
+        vec![[0, 1, 2]],
+        &id,
+        false,
+        true,
+    )
+    .unwrap();
     assert!((hit_prim(&flat, &ray).unwrap().ns - Vec3::Z).length() < 1e-6);
     let flip = TriangleMesh::new(p, Some(n), None, vec![[0, 1, 2]], &id, true, false).unwrap();
     let sf = hit_prim(&flip, &ray).unwrap();
@@ -107,8 +158,16 @@ fn shading_normals_interpolate_and_default_uvs_follow_mitsuba() {
 fn degenerate_uvs_fall_back_to_a_frame() {
     let p = vec![Vec3::ZERO, Vec3::X, Vec3::Y];
     let uv = vec![Vec2::ZERO; 3];
-    let m = TriangleMesh::new(p, None, Some(uv), vec![[0, 1, 2]], &Transform::IDENTITY, false, false)
-        .unwrap();
+    let m = TriangleMesh::new(
+        p,
+        None,
+        Some(uv),
+        vec![[0, 1, 2]],
+        &Transform::IDENTITY,
+        false,
+        false,
+    )
+    .unwrap();
     let si = hit_prim(&m, &Ray::new(Vec3::new(0.2, 0.2, 1.0), -Vec3::Z)).unwrap();
     assert!(si.dpdu.is_finite() && si.dpdv.is_finite());
     assert!(si.dpdu.cross(si.dpdv).normalize().dot(si.ng) > 0.99);
@@ -140,13 +199,23 @@ fn sampling_is_uniform_by_area() {
         Vec3::new(3.0, 0.0, 1.0),
         Vec3::new(0.0, 1.0, 1.0),
     ];
-    let m = TriangleMesh::new(p, None, None, vec![[0, 1, 2], [3, 4, 5]], &Transform::IDENTITY, false, false)
-        .unwrap();
+    let m = TriangleMesh::new(
+        p,
+        None,
+        None,
+        vec![[0, 1, 2], [3, 4, 5]],
+        &Transform::IDENTITY,
+        false,
+        false,
+    )
+    .unwrap();
     let mut rng = Pcg32::new(4, 4);
     let n = 100_000;
     let (mut first, mut sum_x) = (0usize, 0.0f64);
     for _ in 0..n {
-        let s = m.sample_direct(Vec3::new(0.3, 0.2, 5.0), rng.next_vec2()).unwrap();
+        let s = m
+            .sample_direct(Vec3::new(0.3, 0.2, 5.0), rng.next_vec2())
+            .unwrap();
         if s.p.z == 0.0 {
             first += 1;
             sum_x += s.p.x as f64;
@@ -182,6 +251,9 @@ fn sampling_integrates_to_the_rectangle_solid_angle() {
     let mean = s1 / n as f64;
     let sigma = ((s2 / n as f64 - mean * mean) / n as f64).sqrt();
     let want = 4.0 * (a * b / ((a * a + d * d) * (b * b + d * d)).sqrt()).asin();
-    assert!((mean - want).abs() < 4.0 * sigma, "{mean} ± {sigma} vs {want}");
+    assert!(
+        (mean - want).abs() < 4.0 * sigma,
+        "{mean} ± {sigma} vs {want}"
+    );
     assert!(want < 2.0 * PI as f64);
 }

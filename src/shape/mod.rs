@@ -74,7 +74,10 @@ pub enum ShapeError {
     BadRadius { shape: &'static str, radius: f32 },
     /// The transform scales differently along different axes where the shape needs a uniform scale.
     #[error("{shape}: to_world must be a similarity (rotation, translation, uniform scale); its axis scales are {scales:?}")]
-    NonUniformScale { shape: &'static str, scales: [f32; 3] },
+    NonUniformScale {
+        shape: &'static str,
+        scales: [f32; 3],
+    },
     /// The transform is singular or not finite.
     #[error("{shape}: to_world is singular or not finite")]
     BadTransform { shape: &'static str },
@@ -178,6 +181,12 @@ pub fn area_to_solid_angle(pdf_area: f32, ref_p: Vec3, p: Vec3, n: Vec3) -> f32 
         return 0.0;
     }
     pdf_area * dist2 / cos
+}
+
+/// Whether `x` is a positive finite number (false for NaN).
+#[inline]
+pub(crate) fn positive_finite(x: f32) -> bool {
+    x > 0.0 && x.is_finite()
 }
 
 /// Applies an object-to-world transform used by shapes (re-exported for loaders).

@@ -76,7 +76,10 @@ pub fn parse_obj(bytes: &[u8], path: &Path) -> Result<MeshData, LoadError> {
                 let mut c = [0.0f32; 3];
                 for (k, slot) in c.iter_mut().enumerate() {
                     let t = toks.next().ok_or_else(|| {
-                        err(line_no, format!("`{}` needs 3 coordinates, found {k}", show(key)))
+                        err(
+                            line_no,
+                            format!("`{}` needs 3 coordinates, found {k}", show(key)),
+                        )
                     })?;
                     *slot = parse_f32(t).ok_or_else(|| {
                         err(line_no, format!("expected a number, found `{}`", show(t)))
@@ -116,14 +119,20 @@ pub fn parse_obj(bytes: &[u8], path: &Path) -> Result<MeshData, LoadError> {
                             continue;
                         }
                         let i = parse_i64(p).ok_or_else(|| {
-                            err(line_no, format!("expected a face index, found `{}`", show(t)))
+                            err(
+                                line_no,
+                                format!("expected a face index, found `{}`", show(t)),
+                            )
                         })?;
                         let n = counts[k] as i64;
                         let r = if i > 0 { i - 1 } else { n + i };
                         if i == 0 || r < 0 || r >= n {
                             return Err(err(
                                 line_no,
-                                format!("{} index {i} is out of range (1..={n} defined so far)", names[k]),
+                                format!(
+                                    "{} index {i} is out of range (1..={n} defined so far)",
+                                    names[k]
+                                ),
                             ));
                         }
                         *slot = r as u32;
@@ -138,8 +147,16 @@ pub fn parse_obj(bytes: &[u8], path: &Path) -> Result<MeshData, LoadError> {
                     let v = *map.entry(idx).or_insert(next);
                     if v == next {
                         out.positions.push(pos[idx[0] as usize]);
-                        out_uv.push(if idx[1] == NONE { Vec2::ZERO } else { tex[idx[1] as usize] });
-                        out_n.push(if idx[2] == NONE { Vec3::ZERO } else { nrm[idx[2] as usize] });
+                        out_uv.push(if idx[1] == NONE {
+                            Vec2::ZERO
+                        } else {
+                            tex[idx[1] as usize]
+                        });
+                        out_n.push(if idx[2] == NONE {
+                            Vec3::ZERO
+                        } else {
+                            nrm[idx[2] as usize]
+                        });
                     }
                     face.push(v);
                 }

@@ -202,15 +202,28 @@ pub fn parse_ply(bytes: &[u8], path: &Path) -> Result<MeshData, LoadError> {
     let mut saw_face = false;
     for el in &elements {
         check_room(&body, el)?;
-        let find = |n: &str| el.props.iter().position(|p| p.name == n && p.list.is_none());
+        let find = |n: &str| {
+            el.props
+                .iter()
+                .position(|p| p.name == n && p.list.is_none())
+        };
         if el.name == "vertex" {
             let xyz = ["x", "y", "z"].map(find);
             if xyz.iter().any(Option::is_none) {
-                return Err(syntax(path, el.line, "element `vertex` needs properties x, y and z"));
+                return Err(syntax(
+                    path,
+                    el.line,
+                    "element `vertex` needs properties x, y and z",
+                ));
             }
             let nxyz = ["nx", "ny", "nz"].map(find);
             let has_n = nxyz.iter().all(Option::is_some);
-            let uv_names = [["u", "v"], ["s", "t"], ["texture_u", "texture_v"], ["texture_s", "texture_t"]];
+            let uv_names = [
+                ["u", "v"],
+                ["s", "t"],
+                ["texture_u", "texture_v"],
+                ["texture_s", "texture_t"],
+            ];
             let uv = uv_names
                 .iter()
                 .map(|pair| pair.map(find))
@@ -260,15 +273,22 @@ pub fn parse_ply(bytes: &[u8], path: &Path) -> Result<MeshData, LoadError> {
             out.uvs = uv.map(|_| uvs);
         } else if el.name == "face" {
             saw_face = true;
-            let list = el
-                .props
-                .iter()
-                .position(|p| p.list.is_some() && (p.name == "vertex_indices" || p.name == "vertex_index"));
+            let list = el.props.iter().position(|p| {
+                p.list.is_some() && (p.name == "vertex_indices" || p.name == "vertex_index")
+            });
             let Some(list) = list else {
-                return Err(syntax(path, el.line, "element `face` needs a list property vertex_indices"));
+                return Err(syntax(
+                    path,
+                    el.line,
+                    "element `face` needs a list property vertex_indices",
+                ));
             };
             if !el.props[list].ty.is_int() {
-                return Err(syntax(path, el.line, "vertex_indices must be a list of integers"));
+                return Err(syntax(
+                    path,
+                    el.line,
+                    "vertex_indices must be a list of integers",
+                ));
             }
             out.indices.reserve(el.count.min(body.remaining()));
             for _ in 0..el.count {
@@ -359,7 +379,11 @@ type Header = (Format, Vec<Element>, usize, usize);
 /// of header lines.
 fn parse_header(bytes: &[u8], path: &Path) -> Result<Header, LoadError> {
     if !bytes.starts_with(b"ply") {
-        return Err(syntax(path, 1, "not a PLY file: expected `ply` on the first line"));
+        return Err(syntax(
+            path,
+            1,
+            "not a PLY file: expected `ply` on the first line",
+        ));
     }
     let mut pos = 0;
     let mut line_no = 0;
@@ -367,7 +391,11 @@ fn parse_header(bytes: &[u8], path: &Path) -> Result<Header, LoadError> {
     let mut elements: Vec<Element> = Vec::new();
     loop {
         let Some(len) = bytes[pos..].iter().position(|&b| b == b'\n') else {
-            return Err(syntax(path, line_no + 1, "header is truncated: expected `end_header`"));
+            return Err(syntax(
+                path,
+                line_no + 1,
+                "header is truncated: expected `end_header`",
+            ));
         };
         let raw = &bytes[pos..pos + len];
         pos += len + 1;
@@ -384,7 +412,11 @@ fn parse_header(bytes: &[u8], path: &Path) -> Result<Header, LoadError> {
                     "ascii" => Format::Ascii,
                     "binary_little_endian" => Format::Little,
                     "binary_big_endian" => Format::Big,
-                    _ => return Err(bad("expected format ascii, binary_little_endian or binary_big_endian")),
+                    _ => {
+                        return Err(bad(
+                            "expected format ascii, binary_little_endian or binary_big_endian",
+                        ))
+                    }
                 });
             }
             ["element", name, count] => {
@@ -400,12 +432,16 @@ fn parse_header(bytes: &[u8], path: &Path) -> Result<Header, LoadError> {
             }
             ["property", "list", ct, it, name] => {
                 let (Some(ct), Some(it)) = (Ty::parse(ct), Ty::parse(it)) else {
-                    return Err(bad("expected `property list <count type> <item type> <name>`"));
+                    return Err(bad(
+                        "expected `property list <count type> <item type> <name>`",
+                    ));
                 };
                 if !ct.is_int() {
                     return Err(bad("a list's count type must be an integer type"));
                 }
-                let el = elements.last_mut().ok_or_else(|| bad("property before any element"))?;
+                let el = elements
+                    .last_mut()
+                    .ok_or_else(|| bad("property before any element"))?;
                 el.props.push(Prop {
                     name: name.to_string(),
                     list: Some(ct),
@@ -414,7 +450,9 @@ fn parse_header(bytes: &[u8], path: &Path) -> Result<Header, LoadError> {
             }
             ["property", ty, name] => {
                 let ty = Ty::parse(ty).ok_or_else(|| bad("unknown property type"))?;
-                let el = elements.last_mut().ok_or_else(|| bad("property before any element"))?;
+                let el = elements
+                    .last_mut()
+                    .ok_or_else(|| bad("property before any element"))?;
                 el.props.push(Prop {
                     name: name.to_string(),
                     list: None,

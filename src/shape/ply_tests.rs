@@ -38,7 +38,10 @@ fn reads_ascii_with_normals_uvs_and_skipped_elements() {
          property list uchar int vertex_indices\nend_header\n",
     );
     for p in POS {
-        s.push_str(&format!("{} {} {} 0 0 1 {} {} 2 7 8\n", p[0], p[1], p[2], p[0], p[1]));
+        s.push_str(&format!(
+            "{} {} {} 0 0 1 {} {} 2 7 8\n",
+            p[0], p[1], p[2], p[0], p[1]
+        ));
     }
     s.push_str("255\n3 4 0 1 2 3\n0 3 0 1 4\n");
     check(&parse_ply(s.as_bytes(), Path::new("a.ply")).unwrap(), true);
@@ -47,7 +50,11 @@ fn reads_ascii_with_normals_uvs_and_skipped_elements() {
 /// A binary file: vertices as (x y z) of `pos_ty`, optional (nx ny nz s t) floats, faces with
 /// an int flag before a `count_ty`/`index_ty` list.
 fn binary(big: bool, pos_ty: &str, count_ty: &str, index_ty: &str, attrs: bool) -> Vec<u8> {
-    let fmt = if big { "binary_big_endian" } else { "binary_little_endian" };
+    let fmt = if big {
+        "binary_big_endian"
+    } else {
+        "binary_little_endian"
+    };
     let mut h = format!("ply\nformat {fmt} 1.0\nelement vertex 5\n");
     for c in ["x", "y", "z"] {
         h.push_str(&format!("property {pos_ty} {c}\n"));
@@ -116,8 +123,8 @@ fn reads_binary_little_and_big_endian_with_any_types() {
 fn loads_through_the_mesh_constructor() {
     let p = write("c.ply", &binary(false, "float", "uchar", "int", true));
     let opts = crate::shape::MeshOptions::default();
-    let m = crate::shape::TriangleMesh::from_ply(&p, &crate::math::Transform::IDENTITY, &opts)
-        .unwrap();
+    let m =
+        crate::shape::TriangleMesh::from_ply(&p, &crate::math::Transform::IDENTITY, &opts).unwrap();
     assert_eq!(m.triangle_count(), 3);
     assert!(m.has_vertex_normals() && m.has_uvs());
 }
@@ -133,10 +140,14 @@ fn truncated_and_garbage_binary_give_errors() {
     let body = full.windows(11).position(|w| w == b"end_header\n").unwrap() + 11;
     for cut in body..full.len() {
         let e = err("cut.ply", &full[..cut]);
-        assert!(e.contains("cut.ply") && e.contains("truncated"), "{cut}: {e}");
+        assert!(
+            e.contains("cut.ply") && e.contains("truncated"),
+            "{cut}: {e}"
+        );
     }
     // A huge declared count is rejected before allocating.
-    let huge = String::from_utf8_lossy(&full).replace("element vertex 5", "element vertex 4000000000");
+    let huge =
+        String::from_utf8_lossy(&full).replace("element vertex 5", "element vertex 4000000000");
     let e = err("huge.ply", huge.as_bytes());
     assert!(e.contains("huge.ply") && e.contains("4000000000"), "{e}");
     // Flipping bytes of the body yields an error or a mesh, never a panic.
@@ -152,23 +163,53 @@ fn truncated_and_garbage_binary_give_errors() {
 #[test]
 fn header_and_data_errors_name_file_and_line() {
     let e = err("garbage.ply", b"\x00\x01binary junk");
-    assert!(e.contains("garbage.ply:1:") && e.contains("not a PLY"), "{e}");
-    let e = err("type.ply", b"ply\nformat ascii 1.0\nelement vertex 1\nproperty flot x\nend_header\n");
-    assert!(e.contains("type.ply:4:") && e.contains("unknown property type"), "{e}");
+    assert!(
+        e.contains("garbage.ply:1:") && e.contains("not a PLY"),
+        "{e}"
+    );
+    let e = err(
+        "type.ply",
+        b"ply\nformat ascii 1.0\nelement vertex 1\nproperty flot x\nend_header\n",
+    );
+    assert!(
+        e.contains("type.ply:4:") && e.contains("unknown property type"),
+        "{e}"
+    );
     let e = err("nohdr.ply", b"ply\nformat ascii 1.0\nelement vertex 1\n");
     assert!(e.contains("nohdr.ply") && e.contains("end_header"), "{e}");
     let head = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
                 property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
-    let e = err("num.ply", format!("{head}0 0 0\n1 0 0\n0 1 zero\n3 0 1 2\n").as_bytes());
+    let e = err(
+        "num.ply",
+        format!("{head}0 0 0\n1 0 0\n0 1 zero\n3 0 1 2\n").as_bytes(),
+    );
     assert!(e.contains("num.ply:12:") && e.contains("`zero`"), "{e}");
-    let e = err("idx.ply", format!("{head}0 0 0\n1 0 0\n0 1 0\n3 0 1 9\n").as_bytes());
-    assert!(e.contains("idx.ply:13:") && e.contains("out of range"), "{e}");
+    let e = err(
+        "idx.ply",
+        format!("{head}0 0 0\n1 0 0\n0 1 0\n3 0 1 9\n").as_bytes(),
+    );
+    assert!(
+        e.contains("idx.ply:13:") && e.contains("out of range"),
+        "{e}"
+    );
     let e = err("noface.ply", b"ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 0\n");
     assert!(e.contains("noface.ply") && e.contains("no faces"), "{e}");
-    let e = err("noxyz.ply", b"ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nend_header\n0\n");
-    assert!(e.contains("noxyz.ply:3:") && e.contains("x, y and z"), "{e}");
+    let e = err(
+        "noxyz.ply",
+        b"ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nend_header\n0\n",
+    );
+    assert!(
+        e.contains("noxyz.ply:3:") && e.contains("x, y and z"),
+        "{e}"
+    );
     let dir = temp_dir("ply");
-    assert!(read_ply(&dir).unwrap_err().to_string().contains("is a directory"));
+    assert!(read_ply(&dir)
+        .unwrap_err()
+        .to_string()
+        .contains("is a directory"));
     let e = read_ply(&dir.join("missing.ply")).unwrap_err().to_string();
-    assert!(e.contains("missing.ply") && e.contains("cannot read"), "{e}");
+    assert!(
+        e.contains("missing.ply") && e.contains("cannot read"),
+        "{e}"
+    );
 }

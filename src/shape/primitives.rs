@@ -27,7 +27,15 @@ impl TriangleMesh {
         ];
         let uvs = vec![Vec2::ZERO, Vec2::X, Vec2::ONE, Vec2::Y];
         let indices = vec![[0, 1, 2], [0, 2, 3]];
-        TriangleMesh::new(positions, None, Some(uvs), indices, to_world, flip_normals, true)
+        TriangleMesh::new(
+            positions,
+            None,
+            Some(uvs),
+            indices,
+            to_world,
+            flip_normals,
+            true,
+        )
     }
 
     /// Mitsuba's `cube`.
@@ -53,6 +61,14 @@ impl TriangleMesh {
                 indices.push([base, base + 2, base + 3]);
             }
         }
-        TriangleMesh::new(positions, None, Some(uvs), indices, to_world, flip_normals, true)
+        TriangleMesh::new(
+            positions,
+            None,
+            Some(uvs),
+            indices,
+            to_world,
+            flip_normals,
+            true,
+        )
     }
 }

@@ -47,7 +47,7 @@ impl Sphere {
         to_world: &Transform,
         flip_normals: bool,
     ) -> Result<Sphere, ShapeError> {
-        if !(radius > 0.0) || !radius.is_finite() {
+        if !super::positive_finite(radius) {
             return Err(ShapeError::BadRadius {
                 shape: "sphere",
                 radius,
@@ -59,7 +59,7 @@ impl Sphere {
             lin.y_axis.length(),
             lin.z_axis.length(),
         ];
-        if !lin.is_finite() || scales.iter().any(|&s| !(s > 0.0)) {
+        if !lin.is_finite() || scales.iter().any(|&s| !super::positive_finite(s)) {
             return Err(ShapeError::BadTransform { shape: "sphere" });
         }
         let s = scales[0];
@@ -191,7 +191,7 @@ impl Sphere {
             let (uv, _, _) = self.parametrise(n);
             let ng = if self.flip_normals { -n } else { n };
             let pdf = area_to_solid_angle(1.0 / self.area(), ref_p, p, ng);
-            if !(pdf > 0.0) || !pdf.is_finite() {
+            if !super::positive_finite(pdf) {
                 return None;
             }
             return Some(ShapeSample { p, n: ng, uv, pdf });

@@ -31,7 +31,10 @@ fn hit_distances_match_analytic_answers() {
         .intersect(&Ray::new(Vec3::new(1.0 + h, 2.0, -10.0), Vec3::Z))
         .unwrap();
     let want = 13.0 - (4.0 - h * h).sqrt();
-    assert!((t - want).abs() <= want * 8.0 * f32::EPSILON, "{t} vs {want}");
+    assert!(
+        (t - want).abs() <= want * 8.0 * f32::EPSILON,
+        "{t} vs {want}"
+    );
     // Behind the ray and beyond t_max: misses.
     assert!(s
         .intersect(&Ray::new(Vec3::new(1.0, 2.0, 10.0), Vec3::Z))
@@ -63,14 +66,22 @@ fn distant_small_sphere_is_hit_precisely() {
 fn uv_follows_mitsuba_convention_and_rotation() {
     let s = Sphere::simple(Vec3::ZERO, 1.0);
     let si = hit(&s, &Ray::new(Vec3::new(5.0, 0.0, 0.0), -Vec3::X)).unwrap();
-    assert!(si.uv.x.abs() < 1e-6 && (si.uv.y - 0.5).abs() < 1e-6, "{:?}", si.uv);
+    assert!(
+        si.uv.x.abs() < 1e-6 && (si.uv.y - 0.5).abs() < 1e-6,
+        "{:?}",
+        si.uv
+    );
     let si = hit(&s, &Ray::new(Vec3::new(0.0, 5.0, 0.0), -Vec3::Y)).unwrap();
     assert!((si.uv.x - 0.25).abs() < 1e-6, "{:?}", si.uv);
     // A 90° turn about z moves u = 0 to world +y.
     let rot = Transform::rotate(Vec3::Z, 90.0).unwrap();
     let s = Sphere::new(Vec3::ZERO, 1.0, &rot, false).unwrap();
     let si = hit(&s, &Ray::new(Vec3::new(0.0, 5.0, 0.0), -Vec3::Y)).unwrap();
-    assert!(si.uv.x.abs() < 1e-5 || (si.uv.x - 1.0).abs() < 1e-5, "{:?}", si.uv);
+    assert!(
+        si.uv.x.abs() < 1e-5 || (si.uv.x - 1.0).abs() < 1e-5,
+        "{:?}",
+        si.uv
+    );
 }
 
 #[test]
@@ -80,7 +91,11 @@ fn tangents_match_finite_differences_and_poles_are_finite() {
     let mut rng = Pcg32::new(11, 0);
     let point = |u: f32, v: f32| {
         let (phi, theta) = (2.0 * PI * u, PI * v);
-        let q = Vec3::new(theta.sin() * phi.cos(), theta.sin() * phi.sin(), theta.cos());
+        let q = Vec3::new(
+            theta.sin() * phi.cos(),
+            theta.sin() * phi.sin(),
+            theta.cos(),
+        );
         s.center + s.rotation * q * s.radius
     };
     for _ in 0..100 {
@@ -89,7 +104,10 @@ fn tangents_match_finite_differences_and_poles_are_finite() {
         let p = point(u, v);
         let n = (p - s.center).normalize();
         let (uv, dpdu, dpdv) = s.parametrise(n);
-        assert!((uv - Vec2::new(u, v)).abs().max_element() < 1e-4, "{uv:?} {u} {v}");
+        assert!(
+            (uv - Vec2::new(u, v)).abs().max_element() < 1e-4,
+            "{uv:?} {u} {v}"
+        );
         let e = 1e-3;
         let fd_u = (point(u + e, v) - point(u - e, v)) / (2.0 * e);
         let fd_v = (point(u, v + e) - point(u, v - e)) / (2.0 * e);
@@ -98,7 +116,11 @@ fn tangents_match_finite_differences_and_poles_are_finite() {
         assert!((fd_u - dpdu).length() < tol, "{fd_u} {dpdu}");
         assert!((fd_v - dpdv).length() < tol, "{fd_v} {dpdv}");
     }
-    let si = hit(&s, &Ray::new(s.center + rot.vector(Vec3::Z) * 5.0, -rot.vector(Vec3::Z))).unwrap();
+    let si = hit(
+        &s,
+        &Ray::new(s.center + rot.vector(Vec3::Z) * 5.0, -rot.vector(Vec3::Z)),
+    )
+    .unwrap();
     assert!(si.dpdu.is_finite() && si.dpdv.is_finite() && si.dpdu.length() > 0.0);
     assert!(si.dpdu.cross(si.dpdv).length() > 0.0);
 }

@@ -6,7 +6,8 @@ use std::collections::HashMap;
 
 use super::SpectrumValue;
 
-/// A finite decimal number, nothing else on the line but surrounding blanks.
+/// A finite decimal number within the range of an f32 (everything downstream is f32, so a
+/// larger one would become infinity later), nothing else but surrounding blanks.
 pub fn parse_float(s: &str) -> Result<f64, String> {
     let t = s.trim();
     // Rust's parser also accepts "inf", "infinity" and "nan"; scene files must not.
@@ -14,8 +15,10 @@ pub fn parse_float(s: &str) -> Result<f64, String> {
         .bytes()
         .all(|b| b.is_ascii_digit() || matches!(b, b'+' | b'-' | b'.' | b'e' | b'E'));
     match t.parse::<f64>() {
-        Ok(x) if looks_numeric && x.is_finite() => Ok(x),
-        Ok(_) if looks_numeric => Err(format!("'{t}', which overflows; expected a finite number")),
+        Ok(x) if looks_numeric && x.abs() <= f32::MAX as f64 => Ok(x),
+        Ok(_) if looks_numeric => Err(format!(
+            "'{t}', which overflows; expected a magnitude below 3.4e38"
+        )),
         Ok(_) => Err(format!(
             "'{t}'; expected a finite decimal number (NaN and infinity are not allowed)"
         )),

@@ -37,13 +37,18 @@
 //!
 //! Deliberate differences from Mitsuba 3: unknown tags and attributes are warnings (Mitsuba
 //! stops), except inside `<transform>`, where skipping an operation would silently move geometry;
-//! `<ref>` must follow the object it names; only `<scene>` roots are accepted.
+//! `<ref>` must follow the object it names; only `<scene>` roots are accepted; numbers beyond
+//! the f32 range are errors; elements may nest at most 100 deep (includes count as a level);
+//! the 0.6 `uoffset`/`uscale` → `to_uv` rewrite is not done (those names stay as written,
+//! snake_cased, and `check_unused` reports them if nobody reads them).
 
+mod element;
 mod error;
 mod literal;
 mod properties;
 mod reader;
 mod transform;
+mod value_tags;
 
 #[cfg(test)]
 mod tests;
@@ -186,9 +191,10 @@ impl Node {
 }
 
 pub(crate) fn describe(tag: Tag, plugin: &str, id: Option<&str>) -> String {
-    match id {
-        Some(id) => format!("{tag} '{plugin}' (id '{id}')"),
-        None => format!("{tag} '{plugin}'"),
+    match (tag, id) {
+        (Tag::Scene, _) => "the scene".to_string(),
+        (_, Some(id)) => format!("{tag} '{plugin}' (id '{id}')"),
+        (_, None) => format!("{tag} '{plugin}'"),
     }
 }
 

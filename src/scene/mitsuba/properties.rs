@@ -94,10 +94,15 @@ impl Properties {
         loc: Location,
     ) -> Result<(), SceneError> {
         if let Some(prev) = self.entries.iter().find(|e| e.name == name) {
+            let written = if original != name {
+                format!(" (written '{original}')")
+            } else {
+                String::new()
+            };
             return Err(SceneError::at(
                 &loc,
                 format!(
-                    "parameter '{name}' of {} is given twice (first at {})",
+                    "parameter '{name}'{written} of {} is given twice (first at {})",
                     self.owner, prev.loc
                 ),
             ));
@@ -189,11 +194,7 @@ impl Properties {
                 ),
             ),
             None => SceneError::At {
-                loc: Location {
-                    file: Default::default(),
-                    line: 0,
-                    col: 0,
-                },
+                loc: unreachable_loc(),
                 message: format!("parameter '{name}' of {} is missing", self.owner),
             },
         }
@@ -222,10 +223,7 @@ impl Properties {
         })?;
         match v {
             Some(x) if !(x as f32).is_finite() => {
-                let loc = self
-                    .location(name)
-                    .cloned()
-                    .unwrap_or_else(|| unreachable_loc());
+                let loc = self.location(name).cloned().unwrap_or_else(unreachable_loc);
                 Err(SceneError::at(
                     &loc,
                     format!(

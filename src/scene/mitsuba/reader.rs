@@ -2,16 +2,15 @@
 //! references and builds [`Node`]s.
 
 use std::collections::HashMap;
-use std::fmt::Display;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use roxmltree::{Document, ParsingOptions};
 
-use super::literal::{self, parse_bool, parse_float, parse_int, parse_rgb, srgb_to_linear};
-use super::properties::{Properties, SpectrumValue, Value};
-use super::{describe, transform, Child, Location, Node, SceneError, Tag, Warning};
-use crate::math::{Transform, Vec3};
+use super::element::{Attr, Elem, Source};
+use super::literal;
+use super::properties::{Properties, Value};
+use super::{describe, Child, Location, Node, SceneError, Tag, Warning};
 
 /// Deepest nesting of elements and includes accepted; deeper input is an error, not a crash.
 const MAX_DEPTH: usize = 100;
@@ -24,117 +23,8 @@ pub fn read_text(path: &Path) -> std::io::Result<String> {
     std::fs::read_to_string(path)
 }
 
-/// One parsed file: positions in it and how to read it.
-struct Source<'d, 'i> {
-    doc: &'d Document<'i>,
-    line_starts: Vec<usize>,
-    file: Arc<PathBuf>,
-    dir: PathBuf,
-    upgrade: bool,
-}
-
-impl<'d, 'i> Source<'d, 'i> {
-    fn new(doc: &'d Document<'i>, file: Arc<PathBuf>) -> Self {
-        let text = doc.input_text();
-        let line_starts = std::iter::once(0)
-            .chain(text.match_indices('\n').map(|(i, _)| i + 1))
-            .collect();
-        let dir = file.parent().map(PathBuf::from).unwrap_or_default();
-        Source {
-            doc,
-            line_starts,
-            file,
-            dir,
-            upgrade: false,
-        }
-    }
-
-    /// The 1-based line and column (in characters) of a byte offset.
-    fn loc(&self, byte: usize) -> Location {
-        let text = self.doc.input_text();
-        let byte = byte.min(text.len());
-        let line = self.line_starts.partition_point(|&s| s <= byte).max(1);
-        let start = self.line_starts[line - 1];
-        let col = text.get(start..byte).map_or(0, |s| s.chars().count()) + 1;
-        Location {
-            file: self.file.clone(),
-            line: line as u32,
-            col: col as u32,
-        }
-    }
-}
-
-/// An attribute after `$name` substitution.
-pub struct Attr {
-    pub name: String,
-    pub value: String,
-    pub loc: Location,
-}
-
-/// An element with its attributes substituted, for the value parsers.
-pub struct Elem {
-    pub tag: String,
-    pub loc: Location,
-    pub attrs: Vec<Attr>,
-}
-
-impl Elem {
-    fn new(
-        node: roxmltree::Node,
-        src: &Source,
-        params: &HashMap<String, String>,
-    ) -> Result<Elem, SceneError> {
-        let tag = node.tag_name().name().to_string();
-        let loc = src.loc(node.range().start);
-        let mut attrs = Vec::new();
-        for a in node.attributes().filter(|a| a.namespace().is_none()) {
-            let aloc = src.loc(a.range().start);
-            let value = literal::substitute(a.value(), params).map_err(|m| {
-                SceneError::at(
-                    &aloc,
-                    format!("<{tag}>: attribute '{}': found {m}", a.name()),
-                )
-            })?;
-            attrs.push(Attr {
-                name: a.name().to_string(),
-                value,
-                loc: aloc,
-            });
-        }
-        Ok(Elem { tag, loc, attrs })
-    }
-
-    pub fn get(&self, name: &str) -> Option<&Attr> {
-        self.attrs.iter().find(|a| a.name == name)
-    }
-
-    pub fn require(&self, name: &str) -> Result<&Attr, SceneError> {
-        self.get(name)
-            .ok_or_else(|| self.err(format!("attribute '{name}' is missing; it is required")))
-    }
-
-    /// `<float name="radius">`, for messages.
-    pub fn describe(&self) -> String {
-        match self.get("name") {
-            Some(n) => format!("<{} name=\"{}\">", self.tag, n.value),
-            None => format!("<{}>", self.tag),
-        }
-    }
-
-    pub fn err(&self, msg: impl Display) -> SceneError {
-        SceneError::at(&self.loc, format!("{}: {msg}", self.describe()))
-    }
-
-    pub fn attr_err(&self, a: &Attr, msg: impl Display) -> SceneError {
-        SceneError::at(
-            &a.loc,
-            format!("{}: attribute '{}': found {msg}", self.describe(), a.name),
-        )
-    }
-}
-
 /// An object being built.
-struct Builder {
+pub struct Builder {
     tag: Tag,
     plugin: String,
     id: Option<String>,
@@ -176,7 +66,7 @@ impl Builder {
         )
     }
 
-    fn add_prop(
+    pub(super) fn add_prop(
         &mut self,
         name: String,
         orig: String,
@@ -219,7 +109,7 @@ impl Builder {
 
 /// Reader state shared by a scene file and everything it includes.
 pub struct Reader {
-    params: HashMap<String, String>,
+    pub(super) params: HashMap<String, String>,
     ids: HashMap<String, (Arc<Node>, Location)>,
     /// Files being read, outermost first, for include-cycle detection.
     stack: Vec<PathBuf>,
@@ -247,9 +137,15 @@ fn parse_doc<'i>(text: &'i str, file: &Arc<PathBuf>) -> Result<Document<'i>, Sce
         let pos = e.pos();
         let msg = e.to_string();
         let suffix = format!(" at {}:{}", pos.row, pos.col);
+        let mut message = msg.strip_suffix(&suffix).unwrap_or(&msg).to_string();
+        if matches!(e, roxmltree::Error::UnclosedRootNode) {
+            // The parser points at the root; say where the text stopped too.
+            let lines = text.split('\n').count();
+            message.push_str(&format!(" (the file ends on line {lines}; truncated?)"));
+        }
         SceneError::Xml {
             loc: at(pos.row, pos.col),
-            message: msg.strip_suffix(&suffix).unwrap_or(&msg).to_string(),
+            message,
         }
     })
 }
@@ -288,7 +184,7 @@ impl Reader {
         });
     }
 
-    fn check_attrs(&mut self, e: &Elem, allowed: &[&str]) {
+    pub(super) fn check_attrs(&mut self, e: &Elem, allowed: &[&str]) {
         for a in &e.attrs {
             if !allowed.contains(&a.name.as_str()) {
                 let msg = format!(
@@ -386,7 +282,7 @@ impl Reader {
     }
 
     /// The `name` attribute, upgraded for 0.6 files; `(name, as written)`.
-    fn name_of(e: &Elem, src: &Source) -> Option<(String, String)> {
+    pub(super) fn name_of(e: &Elem, src: &Source) -> Option<(String, String)> {
         let orig = e.get("name")?.value.clone();
         let name = if src.upgrade {
             literal::to_snake_case(&orig)
@@ -524,7 +420,7 @@ impl Reader {
         r
     }
 
-    fn no_children(&mut self, node: roxmltree::Node, src: &Source, e: &Elem) {
+    pub(super) fn no_children(&mut self, node: roxmltree::Node, src: &Source, e: &Elem) {
         for c in node.children().filter(|c| c.is_element()) {
             let msg = format!(
                 "<{}> inside {} ignored (it takes no nested elements)",
@@ -533,142 +429,5 @@ impl Reader {
             );
             self.warn(&src.loc(c.range().start), msg);
         }
-    }
-
-    fn value(
-        &mut self,
-        node: roxmltree::Node,
-        src: &Source,
-        b: &mut Builder,
-    ) -> Result<(), SceneError> {
-        let e = Elem::new(node, src, &self.params)?;
-        let Some((name, orig)) = Self::name_of(&e, src).filter(|n| !n.0.is_empty()) else {
-            return Err(e.err("attribute 'name' is missing or empty; it is required"));
-        };
-        let parse = |a: &Attr, f: fn(&str) -> Result<f64, String>| {
-            f(&a.value).map_err(|m| e.attr_err(a, m))
-        };
-        let (value, allowed): (Value, &[&str]) = match e.tag.as_str() {
-            "float" => (
-                Value::Float(parse(e.require("value")?, parse_float)?),
-                &["name", "value"],
-            ),
-            "integer" => {
-                let a = e.require("value")?;
-                (
-                    Value::Integer(parse_int(&a.value).map_err(|m| e.attr_err(a, m))?),
-                    &["name", "value"],
-                )
-            }
-            "boolean" => {
-                let a = e.require("value")?;
-                (
-                    Value::Boolean(parse_bool(&a.value).map_err(|m| e.attr_err(a, m))?),
-                    &["name", "value"],
-                )
-            }
-            "string" => (
-                Value::String(e.require("value")?.value.clone()),
-                &["name", "value"],
-            ),
-            "point" | "vector" => {
-                let v = point(&e)?;
-                let v = if e.tag == "point" {
-                    Value::Point(v)
-                } else {
-                    Value::Vector(v)
-                };
-                (v, &["name", "value", "x", "y", "z"])
-            }
-            "rgb" | "srgb" => {
-                let a = e.require("value")?;
-                let mut c = parse_rgb(&a.value).map_err(|m| e.attr_err(a, m))?;
-                if e.tag == "srgb" && !a.value.trim().starts_with('#') {
-                    c = c.map(srgb_to_linear);
-                }
-                (Value::Rgb(c), &["name", "value", "intent"])
-            }
-            "spectrum" => (
-                Value::Spectrum(spectrum(&e, src)?),
-                &["name", "value", "filename", "intent"],
-            ),
-            "blackbody" => {
-                let t = e.require("temperature")?;
-                let temperature =
-                    literal::parse_temperature(&t.value).map_err(|m| e.attr_err(t, m))?;
-                let scale = match e.get("scale") {
-                    Some(a) => parse(a, parse_float)? as f32,
-                    None => 1.0,
-                };
-                (
-                    Value::Blackbody { temperature, scale },
-                    &["name", "temperature", "scale"],
-                )
-            }
-            _ => (Value::Transform(self.transform(node, src)?), &["name"]),
-        };
-        if e.tag != "transform" {
-            self.no_children(node, src, &e);
-        }
-        self.check_attrs(&e, allowed);
-        b.add_prop(name, orig, value, e.loc)
-    }
-
-    fn transform(&mut self, node: roxmltree::Node, src: &Source) -> Result<Transform, SceneError> {
-        let mut t = Transform::IDENTITY;
-        for c in node.children().filter(|c| c.is_element()) {
-            let op = Elem::new(c, src, &self.params)?;
-            self.check_attrs(&op, transform::allowed_attrs(&op.tag));
-            self.no_children(c, src, &op);
-            t = transform::op(&op)?.compose(&t);
-        }
-        Ok(t)
-    }
-}
-
-/// `value="x, y, z"` (or one number for all three) or `x=`, `y=`, `z=` (absent ones are 0).
-fn point(e: &Elem) -> Result<Vec3, SceneError> {
-    let comps = ["x", "y", "z"].map(|n| e.get(n));
-    match e.get("value") {
-        Some(a) if comps.iter().any(Option::is_some) => {
-            Err(e.attr_err(a, "both 'value' and x/y/z attributes; expected one form"))
-        }
-        Some(a) => Ok(Vec3::from(
-            literal::parse_vec3(&a.value).map_err(|m| e.attr_err(a, m))?,
-        )),
-        None if comps.iter().all(Option::is_none) => {
-            Err(e.err("found no coordinates; expected value=\"x, y, z\" or x=, y=, z= attributes"))
-        }
-        None => {
-            let mut v = [0.0f32; 3];
-            for (slot, a) in v.iter_mut().zip(comps) {
-                if let Some(a) = a {
-                    *slot = parse_float(&a.value).map_err(|m| e.attr_err(a, m))? as f32;
-                }
-            }
-            Ok(Vec3::from(v))
-        }
-    }
-}
-
-/// `value=` (constant or pairs) or `filename=` (must exist, relative to the declaring file).
-fn spectrum(e: &Elem, src: &Source) -> Result<SpectrumValue, SceneError> {
-    match (e.get("value"), e.get("filename")) {
-        (Some(a), None) => literal::parse_spectrum(&a.value).map_err(|m| e.attr_err(a, m)),
-        (None, Some(f)) => {
-            let path = src.dir.join(&f.value);
-            if path.is_file() {
-                Ok(SpectrumValue::File(path))
-            } else {
-                Err(e.attr_err(
-                    f,
-                    format!(
-                        "'{}', which is not a readable file; expected a spectrum file",
-                        path.display()
-                    ),
-                ))
-            }
-        }
-        _ => Err(e.err("found neither or both of 'value' and 'filename'; expected exactly one")),
     }
 }

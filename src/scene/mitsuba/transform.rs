@@ -1,8 +1,8 @@
 //! `<transform>` blocks: translate, rotate, scale, matrix and lookat, composed in document
 //! order (each operation is applied after the ones before it: M ← T_new · M).
 
+use super::element::Elem;
 use super::literal::{parse_float, parse_list, parse_vec3};
-use super::reader::Elem;
 use super::SceneError;
 use crate::math::{Mat4, Transform, Vec3};
 
