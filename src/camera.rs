@@ -77,13 +77,22 @@ impl PerspectiveCamera {
                 Vec2::new(t * aspect / d, t / d)
             }
         };
-        PerspectiveCamera { to_world, tan_half, near_clip, far_clip }
+        PerspectiveCamera {
+            to_world,
+            tan_half,
+            near_clip,
+            far_clip,
+        }
     }
 
     /// The camera ray through the film point `film` ∈ [0,1]² (x right, y down).
     #[inline]
     pub fn generate_ray(&self, film: Vec2) -> Ray {
-        let d_cam = Vec3::new((1.0 - 2.0 * film.x) * self.tan_half.x, (1.0 - 2.0 * film.y) * self.tan_half.y, 1.0);
+        let d_cam = Vec3::new(
+            (1.0 - 2.0 * film.x) * self.tan_half.x,
+            (1.0 - 2.0 * film.y) * self.tan_half.y,
+            1.0,
+        );
         let inv_len = 1.0 / d_cam.length();
         let d_local = d_cam * inv_len;
         let o = self.to_world.point(d_local * (self.near_clip * inv_len));
@@ -91,7 +100,11 @@ impl PerspectiveCamera {
         let span = (self.far_clip - self.near_clip) * inv_len;
         // A scaled to_world changes lengths; measure the clip range in world units.
         let scale = self.to_world.vector(d_local).length();
-        Ray { o, d, t_max: span * scale }
+        Ray {
+            o,
+            d,
+            t_max: span * scale,
+        }
     }
 
     /// Camera position in world space.
@@ -106,7 +119,8 @@ mod tests {
 
     #[test]
     fn centre_ray_looks_down_z_and_corners_match_fov() {
-        let cam = PerspectiveCamera::new(Transform::IDENTITY, 90.0, FovAxis::X, 200, 100, 0.01, 100.0);
+        let cam =
+            PerspectiveCamera::new(Transform::IDENTITY, 90.0, FovAxis::X, 200, 100, 0.01, 100.0);
         let r = cam.generate_ray(Vec2::new(0.5, 0.5));
         assert!((r.d - Vec3::Z).length() < 1e-6);
         // Left edge of the image is local +x; 90° horizontal fov → 45° half angle.
@@ -119,8 +133,17 @@ mod tests {
 
     #[test]
     fn fov_axis_y_and_smaller_agree_for_landscape() {
-        let a = PerspectiveCamera::new(Transform::IDENTITY, 40.0, FovAxis::Y, 300, 200, 0.01, 100.0);
-        let b = PerspectiveCamera::new(Transform::IDENTITY, 40.0, FovAxis::Smaller, 300, 200, 0.01, 100.0);
+        let a =
+            PerspectiveCamera::new(Transform::IDENTITY, 40.0, FovAxis::Y, 300, 200, 0.01, 100.0);
+        let b = PerspectiveCamera::new(
+            Transform::IDENTITY,
+            40.0,
+            FovAxis::Smaller,
+            300,
+            200,
+            0.01,
+            100.0,
+        );
         assert_eq!(a.tan_half, b.tan_half);
     }
 }

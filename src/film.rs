@@ -32,7 +32,10 @@ impl Filter {
     /// A Gaussian filter with a tabulated inverse CDF for sampling.
     pub fn gaussian(stddev: f32) -> Filter {
         let r = 4.0 * stddev;
-        let f = |x: f32| ((-x * x / (2.0 * stddev * stddev)).exp() - (-r * r / (2.0 * stddev * stddev)).exp()).max(0.0);
+        let f = |x: f32| {
+            ((-x * x / (2.0 * stddev * stddev)).exp() - (-r * r / (2.0 * stddev * stddev)).exp())
+                .max(0.0)
+        };
         // CDF on a fine grid over [−r, r], inverted at GAUSS_TABLE + 1 evenly spaced levels.
         let m = 8192;
         let h = 2.0 * r / m as f32;
@@ -53,7 +56,10 @@ impl Filter {
             let t = ((target - cdf[j]) / seg).clamp(0.0, 1.0);
             inv.push(-r + (j as f32 + t as f32) * h);
         }
-        Filter::Gaussian { stddev, inv_cdf: inv }
+        Filter::Gaussian {
+            stddev,
+            inv_cdf: inv,
+        }
     }
 
     /// Filter radius in pixels.
@@ -125,7 +131,11 @@ pub struct Film {
 impl Film {
     /// An empty film.
     pub fn new(width: u32, height: u32) -> Film {
-        Film { width, height, pixels: vec![[0.0; 4]; width as usize * height as usize] }
+        Film {
+            width,
+            height,
+            pixels: vec![[0.0; 4]; width as usize * height as usize],
+        }
     }
 
     /// Adds one sample (XYZ already weighted) to pixel (x, y).
@@ -160,7 +170,11 @@ impl Film {
                 if p[3] <= 0.0 {
                     return [0.0; 3];
                 }
-                let xyz = [(p[0] / p[3]) as f32, (p[1] / p[3]) as f32, (p[2] / p[3]) as f32];
+                let xyz = [
+                    (p[0] / p[3]) as f32,
+                    (p[1] / p[3]) as f32,
+                    (p[2] / p[3]) as f32,
+                ];
                 cie::xyz_to_linear_srgb(xyz)
             })
             .collect()
@@ -174,7 +188,11 @@ mod tests {
 
     #[test]
     fn filter_samples_stay_within_radius_and_are_centred() {
-        let filters = [Filter::Box, Filter::Tent { radius: 1.0 }, Filter::gaussian(0.5)];
+        let filters = [
+            Filter::Box,
+            Filter::Tent { radius: 1.0 },
+            Filter::gaussian(0.5),
+        ];
         let mut rng = Pcg32::new(11, 0);
         for f in &filters {
             let n = 50_000;
@@ -188,7 +206,10 @@ mod tests {
             }
             let mean = sum / n as f64;
             let var = sum2 / n as f64 - mean * mean;
-            assert!(mean.abs() < 4.0 * (var / n as f64).sqrt(), "{f:?} mean {mean}");
+            assert!(
+                mean.abs() < 4.0 * (var / n as f64).sqrt(),
+                "{f:?} mean {mean}"
+            );
         }
     }
 
@@ -198,7 +219,10 @@ mod tests {
         let f = Filter::Tent { radius: 1.0 };
         let mut rng = Pcg32::new(2, 0);
         let n = 100_000;
-        let v: f64 = (0..n).map(|_| (f.sample(rng.next_vec2()).x as f64).powi(2)).sum::<f64>() / n as f64;
+        let v: f64 = (0..n)
+            .map(|_| (f.sample(rng.next_vec2()).x as f64).powi(2))
+            .sum::<f64>()
+            / n as f64;
         // σ of the sample variance ≈ sqrt((μ4 − σ⁴)/n); μ4 = r⁴/15 for the triangle.
         let sd = ((1.0 / 15.0 - 1.0 / 36.0) / n as f64).sqrt();
         assert!((v - 1.0 / 6.0).abs() < 4.0 * sd, "{v}");

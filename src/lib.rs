@@ -5,29 +5,29 @@
 pub mod accel;
 /// Scattering functions (BSDFs) and materials.
 pub mod bsdf;
+/// Perspective camera.
+pub mod camera;
+/// Film: XYZ accumulation and reconstruction filters.
+pub mod film;
+/// Image reading and writing: OpenEXR, Radiance HDR, PNG.
+pub mod image_io;
+/// Path tracing.
+pub mod integrator;
 /// Light sources.
 pub mod light;
 /// Geometry and sampling primitives.
 pub mod math;
+/// Wave optics: exact thin-film interference.
+pub mod optics;
+/// The render loop over tiles.
+pub mod render;
+/// Sample generators.
+pub mod sampler;
+/// Scene loading (Mitsuba XML) and the built scene.
+pub mod scene;
 /// Shapes: spheres, disks, triangle meshes and their loaders.
 pub mod shape;
 /// Spectral types, colour-matching functions, RGB uplift, named IOR data.
 pub mod spectrum;
 /// Textures.
 pub mod texture;
-/// Image reading and writing: OpenEXR, Radiance HDR, PNG.
-pub mod image_io;
-/// Scene loading (Mitsuba XML) and the built scene.
-pub mod scene;
-/// Perspective camera.
-pub mod camera;
-/// Film: XYZ accumulation and reconstruction filters.
-pub mod film;
-/// Path tracing.
-pub mod integrator;
-/// The render loop over tiles.
-pub mod render;
-/// Sample generators.
-pub mod sampler;
-/// Wave optics: exact thin-film interference.
-pub mod optics;

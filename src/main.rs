@@ -75,7 +75,11 @@ fn main() {
 fn output_paths(scene: &Path, output: Option<&Path>) -> Vec<PathBuf> {
     let base = match output {
         Some(o) => {
-            match o.extension().and_then(|e| e.to_str()).map(|e| e.to_ascii_lowercase()) {
+            match o
+                .extension()
+                .and_then(|e| e.to_str())
+                .map(|e| e.to_ascii_lowercase())
+            {
                 Some(e) if e == "exr" || e == "png" => return vec![o.to_path_buf()],
                 _ => o.to_path_buf(),
             }
@@ -98,7 +102,11 @@ fn check_writable(path: &Path) -> Result<()> {
         _ => PathBuf::from("."),
     };
     if !dir.is_dir() {
-        bail!("cannot write {}: directory {} does not exist", path.display(), dir.display());
+        bail!(
+            "cannot write {}: directory {} does not exist",
+            path.display(),
+            dir.display()
+        );
     }
     if path.is_dir() {
         bail!("cannot write {}: it is a directory", path.display());
@@ -144,10 +152,17 @@ fn cmd_render(args: RenderArgs) -> Result<()> {
         if n == 0 {
             bail!("--threads must be at least 1");
         }
-        rayon::ThreadPoolBuilder::new().num_threads(n).build_global().context("starting the thread pool")?;
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build_global()
+            .context("starting the thread pool")?;
     }
 
-    let load_opts = LoadOptions { defines, spp: args.spp, seed: args.seed };
+    let load_opts = LoadOptions {
+        defines,
+        spp: args.spp,
+        seed: args.seed,
+    };
     let (scene, warnings) = load_scene(&args.scene, &load_opts)?;
     for w in &warnings {
         eprintln!("warning: {w}");
@@ -180,9 +195,11 @@ fn cmd_render(args: RenderArgs) -> Result<()> {
     } else {
         let b = ProgressBar::new(1);
         b.set_style(
-            ProgressStyle::with_template("{spinner} [{elapsed_precise}] [{wide_bar}] {percent}% ETA {eta}")
-                .expect("valid template")
-                .progress_chars("=> "),
+            ProgressStyle::with_template(
+                "{spinner} [{elapsed_precise}] [{wide_bar}] {percent}% ETA {eta}",
+            )
+            .expect("valid template")
+            .progress_chars("=> "),
         );
         b
     };
@@ -190,14 +207,21 @@ fn cmd_render(args: RenderArgs) -> Result<()> {
     let stats = render(&scene, &mut film, 0, &opts, &cancel, &Bar(bar.clone()));
     bar.finish_and_clear();
 
-    let image = RgbImage { width: film.width as usize, height: film.height as usize, data: film.to_linear_srgb() };
+    let image = RgbImage {
+        width: film.width as usize,
+        height: film.height as usize,
+        data: film.to_linear_srgb(),
+    };
     let meta = vec![
         ("ophis.spp".to_string(), stats.spp_complete.to_string()),
         ("ophis.samples".to_string(), stats.samples.to_string()),
         ("ophis.seed".to_string(), scene.sampler.seed.to_string()),
     ];
     for o in &outputs {
-        let is_png = o.extension().and_then(|e| e.to_str()).is_some_and(|e| e.eq_ignore_ascii_case("png"));
+        let is_png = o
+            .extension()
+            .and_then(|e| e.to_str())
+            .is_some_and(|e| e.eq_ignore_ascii_case("png"));
         if is_png {
             write_png(o, &image).with_context(|| format!("writing {}", o.display()))?;
         } else {
@@ -211,13 +235,21 @@ fn cmd_render(args: RenderArgs) -> Result<()> {
         scene.width,
         scene.height,
         stats.spp_complete,
-        if stats.stopped_early { format!(" (stopped early; {} samples)", stats.samples) } else { String::new() },
+        if stats.stopped_early {
+            format!(" (stopped early; {} samples)", stats.samples)
+        } else {
+            String::new()
+        },
         stats.seconds,
         sps / 1e6,
         names.join(", ")
     );
     if cancel.load(Ordering::SeqCst) {
-        bail!("render interrupted; kept {} samples ({} complete spp)", stats.samples, stats.spp_complete);
+        bail!(
+            "render interrupted; kept {} samples ({} complete spp)",
+            stats.samples,
+            stats.spp_complete
+        );
     }
     Ok(())
 }

@@ -83,7 +83,9 @@ pub fn render(
 ) -> RenderStats {
     let t0 = Instant::now();
     let (w, h) = (scene.width, scene.height);
-    let tiles: Vec<(u32, u32)> = (0..h.div_ceil(TILE)).flat_map(|ty| (0..w.div_ceil(TILE)).map(move |tx| (tx * TILE, ty * TILE))).collect();
+    let tiles: Vec<(u32, u32)> = (0..h.div_ceil(TILE))
+        .flat_map(|ty| (0..w.div_ceil(TILE)).map(move |tx| (tx * TILE, ty * TILE)))
+        .collect();
     let total = w as u64 * h as u64 * opts.spp.saturating_sub(start_spp) as u64;
     let done = AtomicU64::new(0);
     let stop = AtomicBool::new(false);
@@ -124,7 +126,12 @@ pub fn render(
             break;
         }
     }
-    RenderStats { spp_complete, samples: done.load(Ordering::Relaxed), seconds: t0.elapsed().as_secs_f64(), stopped_early }
+    RenderStats {
+        spp_complete,
+        samples: done.load(Ordering::Relaxed),
+        seconds: t0.elapsed().as_secs_f64(),
+        stopped_early,
+    }
 }
 
 fn tile_extent(scene: &Scene, x0: u32, y0: u32) -> (u32, u32) {
@@ -132,7 +139,14 @@ fn tile_extent(scene: &Scene, x0: u32, y0: u32) -> (u32, u32) {
 }
 
 /// Renders samples [s0, s1) of every pixel in a tile; returns per-pixel sums (X, Y, Z, count).
-fn render_tile(scene: &Scene, x0: u32, y0: u32, s0: u32, s1: u32, strategy: PathStrategy) -> Vec<[f64; 4]> {
+fn render_tile(
+    scene: &Scene,
+    x0: u32,
+    y0: u32,
+    s0: u32,
+    s1: u32,
+    strategy: PathStrategy,
+) -> Vec<[f64; 4]> {
     let (x1, y1) = tile_extent(scene, x0, y0);
     let mut sampler = Sampler::new(scene.sampler.kind, scene.sampler.seed);
     let inv = Vec2::new(1.0 / scene.width as f32, 1.0 / scene.height as f32);

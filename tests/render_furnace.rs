@@ -40,7 +40,8 @@ fn classify(x: usize, y: usize, n: usize) -> Option<bool> {
         (dx * dx + dy * dy).sqrt().atan()
     };
     let limit = (1.0f32 / 5.0).asin();
-    let corners = [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)].map(|(a, b)| to_dir(x as f32 + a, y as f32 + b));
+    let corners = [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)]
+        .map(|(a, b)| to_dir(x as f32 + a, y as f32 + b));
     if corners.iter().all(|&a| a < limit * 0.97) {
         Some(true)
     } else if corners.iter().all(|&a| a > limit * 1.03) {
@@ -56,8 +57,10 @@ fn check(albedo: f32, max_depth: i32, strategy: PathStrategy) {
     let n = 32;
     for (on_sphere, expected) in [(true, albedo as f64), (false, 1.0)] {
         for c in 0..3 {
-            let vals: Vec<f64> =
-                (0..n * n).filter(|&i| classify(i % n, i / n, n) == Some(on_sphere)).map(|i| img[i][c] as f64).collect();
+            let vals: Vec<f64> = (0..n * n)
+                .filter(|&i| classify(i % n, i / n, n) == Some(on_sphere))
+                .map(|i| img[i][c] as f64)
+                .collect();
             assert!(vals.len() > 50, "too few pixels classified");
             let (m, se) = mean_stderr(&vals);
             assert!(

@@ -40,15 +40,20 @@ fn compare(a: &[[f32; 3]], b: &[[f32; 3]], what: &str) {
     for by in 0..4 {
         for bx in 0..4 {
             for c in 0..3 {
-                let d: Vec<f64> = (0..64).map(|k| {
-                    let (x, y) = (bx * 8 + k % 8, by * 8 + k / 8);
-                    (a[y * n + x][c] - b[y * n + x][c]) as f64
-                }).collect();
+                let d: Vec<f64> = (0..64)
+                    .map(|k| {
+                        let (x, y) = (bx * 8 + k % 8, by * 8 + k / 8);
+                        (a[y * n + x][c] - b[y * n + x][c]) as f64
+                    })
+                    .collect();
                 let m = d.iter().sum::<f64>() / 64.0;
                 let var = d.iter().map(|v| (v - m) * (v - m)).sum::<f64>() / 63.0;
                 let se = (var / 64.0).sqrt();
                 if se == 0.0 {
-                    assert!(m.abs() < 1e-6, "{what}: block ({bx},{by}) ch {c}: identical noise but mean diff {m}");
+                    assert!(
+                        m.abs() < 1e-6,
+                        "{what}: block ({bx},{by}) ch {c}: identical noise but mean diff {m}"
+                    );
                     continue;
                 }
                 let t = m / se;

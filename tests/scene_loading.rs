@@ -6,12 +6,22 @@ use ophis::scene::Scene;
 use std::path::Path;
 
 fn load(xml: &str) -> Result<Scene, String> {
-    load_scene_str(xml, Path::new("test.xml"), &LoadOptions::default()).map(|(s, _)| s).map_err(|e| e.to_string())
+    load_scene_str(xml, Path::new("test.xml"), &LoadOptions::default())
+        .map(|(s, _)| s)
+        .map_err(|e| e.to_string())
 }
 
 fn load_with(xml: &str, defines: &[(&str, &str)]) -> Result<Scene, String> {
-    let opts = LoadOptions { defines: defines.iter().map(|(a, b)| (a.to_string(), b.to_string())).collect(), ..Default::default() };
-    load_scene_str(xml, Path::new("test.xml"), &opts).map(|(s, _)| s).map_err(|e| e.to_string())
+    let opts = LoadOptions {
+        defines: defines
+            .iter()
+            .map(|(a, b)| (a.to_string(), b.to_string()))
+            .collect(),
+        ..Default::default()
+    };
+    load_scene_str(xml, Path::new("test.xml"), &opts)
+        .map(|(s, _)| s)
+        .map_err(|e| e.to_string())
 }
 
 fn temp_dir(name: &str) -> std::path::PathBuf {
@@ -20,7 +30,7 @@ fn temp_dir(name: &str) -> std::path::PathBuf {
     d
 }
 
-const EVERYTHING: &str = r#"<scene version="3.0.0">
+const EVERYTHING: &str = r##"<scene version="3.0.0">
     <default name="res" value="16"/>
     <integrator type="path">
         <integer name="max_depth" value="6"/><integer name="rr_depth" value="3"/>
@@ -57,14 +67,15 @@ const EVERYTHING: &str = r#"<scene version="3.0.0">
     <emitter type="point"><point name="position" value="0, 3, 0"/><rgb name="intensity" value="5"/></emitter>
     <emitter type="directional"><vector name="direction" value="0, -1, 0"/><spectrum name="irradiance" value="2"/></emitter>
     <emitter type="constant"><rgb name="radiance" value="0.1"/></emitter>
-</scene>"#;
+</scene>"##;
 
 #[test]
 fn every_supported_plugin_loads() {
     let s = load(EVERYTHING).expect("loads");
     assert_eq!(s.shapes.len(), 9);
     assert_eq!(s.lights.len(), 4);
-    assert_eq!(s.infinite_lights.len(), 1);
+    // The constant environment and the directional light are both at infinity.
+    assert_eq!(s.infinite_lights.len(), 2);
     assert_eq!((s.width, s.height), (16, 16));
     assert_eq!(s.integrator.max_depth, Some(6));
     assert_eq!(s.integrator.rr_depth, 3);
@@ -130,15 +141,27 @@ fn mitsuba_06_and_3_spellings_build_the_same_scene() {
 
 /// Asserts that loading fails with a message naming `test.xml:line:` and containing `what`.
 fn assert_error_at(xml: &str, line: u32, what: &str) {
-    let e = load(xml).err().unwrap_or_else(|| panic!("expected an error for:\n{xml}"));
-    assert!(e.contains(&format!("test.xml:{line}:")), "error does not name line {line}: {e}");
-    assert!(e.to_lowercase().contains(&what.to_lowercase()), "error does not mention '{what}': {e}");
+    let e = load(xml)
+        .err()
+        .unwrap_or_else(|| panic!("expected an error for:\n{xml}"));
+    assert!(
+        e.contains(&format!("test.xml:{line}:")),
+        "error does not name line {line}: {e}"
+    );
+    assert!(
+        e.to_lowercase().contains(&what.to_lowercase()),
+        "error does not mention '{what}': {e}"
+    );
 }
 
 #[test]
 fn errors_name_file_line_and_column() {
     // Malformed XML (unclosed element).
-    assert_error_at("<scene version=\"3.0.0\">\n  <shape type=\"sphere\">\n</scene>", 3, "");
+    assert_error_at(
+        "<scene version=\"3.0.0\">\n  <shape type=\"sphere\">\n</scene>",
+        3,
+        "",
+    );
     // Unknown reference.
     assert_error_at("<scene version=\"3.0.0\">\n<shape type=\"sphere\">\n  <ref id=\"nope\"/>\n</shape>\n</scene>", 3, "nope");
     // Non-numeric value.
@@ -170,12 +193,21 @@ fn missing_mesh_file_is_an_error_naming_the_file() {
     let dir = temp_dir("missing");
     let scene = dir.join("scene.xml");
     std::fs::write(&scene, "<scene version=\"3.0.0\">\n<shape type=\"obj\">\n  <string name=\"filename\" value=\"nothere.obj\"/>\n</shape>\n</scene>").unwrap();
-    let e = load_scene(&scene, &LoadOptions::default()).err().expect("error").to_string();
-    assert!(e.contains("nothere.obj") && e.contains("scene.xml:3:"), "{e}");
+    let e = load_scene(&scene, &LoadOptions::default())
+        .err()
+        .expect("error")
+        .to_string();
+    assert!(
+        e.contains("nothere.obj") && e.contains("scene.xml:3:"),
+        "{e}"
+    );
     // A directory where a file is expected.
     std::fs::create_dir_all(dir.join("adir.ply")).unwrap();
     std::fs::write(&scene, "<scene version=\"3.0.0\">\n<shape type=\"ply\">\n  <string name=\"filename\" value=\"adir.ply\"/>\n</shape>\n</scene>").unwrap();
-    let e = load_scene(&scene, &LoadOptions::default()).err().expect("error").to_string();
+    let e = load_scene(&scene, &LoadOptions::default())
+        .err()
+        .expect("error")
+        .to_string();
     assert!(e.contains("adir.ply") && e.contains("directory"), "{e}");
 }
 
@@ -192,8 +224,17 @@ fn meshes_load_relative_to_the_scene_file() {
 #[test]
 fn unused_parameters_and_unknown_plugins_are_warnings() {
     let xml = "<scene version=\"3.0.0\">\n<shape type=\"sphere\">\n  <float name=\"radiuss\" value=\"2\"/>\n</shape>\n<shape type=\"teapot\"/>\n</scene>";
-    let (_, warnings) = load_scene_str(xml, Path::new("test.xml"), &LoadOptions::default()).expect("loads");
+    let (_, warnings) =
+        load_scene_str(xml, Path::new("test.xml"), &LoadOptions::default()).expect("loads");
     let all: Vec<String> = warnings.iter().map(|w| w.to_string()).collect();
-    assert!(all.iter().any(|w| w.contains("radiuss") && w.contains("test.xml:3:")), "{all:?}");
-    assert!(all.iter().any(|w| w.contains("teapot") && w.contains("test.xml:5:")), "{all:?}");
+    assert!(
+        all.iter()
+            .any(|w| w.contains("radiuss") && w.contains("test.xml:3:")),
+        "{all:?}"
+    );
+    assert!(
+        all.iter()
+            .any(|w| w.contains("teapot") && w.contains("test.xml:5:")),
+        "{all:?}"
+    );
 }

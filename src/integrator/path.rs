@@ -31,7 +31,13 @@ pub enum PathStrategy {
 const SAFETY_DEPTH: u32 = 1024;
 
 /// Estimates the radiance arriving along a camera ray at the path's wavelengths.
-pub fn radiance(scene: &Scene, mut ray: Ray, wl: &SampledWavelengths, sampler: &mut Sampler, strategy: PathStrategy) -> SampledSpectrum {
+pub fn radiance(
+    scene: &Scene,
+    mut ray: Ray,
+    wl: &SampledWavelengths,
+    sampler: &mut Sampler,
+    strategy: PathStrategy,
+) -> SampledSpectrum {
     let settings = &scene.integrator;
     let max_depth = settings.max_depth.unwrap_or(SAFETY_DEPTH).min(SAFETY_DEPTH);
     let mut l = SampledSpectrum::ZERO;
@@ -39,7 +45,10 @@ pub fn radiance(scene: &Scene, mut ray: Ray, wl: &SampledWavelengths, sampler: &
     let mut eta_scale = 1.0f32;
     let mut specular_bounce = true;
     let mut prev_pdf = 0.0f32;
-    let mut prev_ctx = LightSampleContext { p: ray.o, n: Vec3::ZERO };
+    let mut prev_ctx = LightSampleContext {
+        p: ray.o,
+        n: Vec3::ZERO,
+    };
     let use_nee = strategy != PathStrategy::BsdfOnly;
     let use_bsdf_hits = strategy != PathStrategy::LightOnly;
     let mut depth = 0u32;
@@ -57,9 +66,15 @@ pub fn radiance(scene: &Scene, mut ray: Ray, wl: &SampledWavelengths, sampler: &
                 if le.is_black() {
                     continue;
                 }
-                let w = emitter_hit_weight(scene, li, specular_bounce, use_nee, use_bsdf_hits, prev_pdf, || {
-                    light.pdf_li(&prev_ctx, ray.d, &scene.shapes, None)
-                });
+                let w = emitter_hit_weight(
+                    scene,
+                    li,
+                    specular_bounce,
+                    use_nee,
+                    use_bsdf_hits,
+                    prev_pdf,
+                    || light.pdf_li(&prev_ctx, ray.d, &scene.shapes, None),
+                );
                 l += beta * le * w;
             }
             break;
@@ -72,9 +87,15 @@ pub fn radiance(scene: &Scene, mut ray: Ray, wl: &SampledWavelengths, sampler: &
                 let light = &scene.lights[li as usize];
                 let le = light.l(&si, wo, wl);
                 if !le.is_black() {
-                    let w = emitter_hit_weight(scene, li, specular_bounce, use_nee, use_bsdf_hits, prev_pdf, || {
-                        light.pdf_li(&prev_ctx, ray.d, &scene.shapes, Some(&si))
-                    });
+                    let w = emitter_hit_weight(
+                        scene,
+                        li,
+                        specular_bounce,
+                        use_nee,
+                        use_bsdf_hits,
+                        prev_pdf,
+                        || light.pdf_li(&prev_ctx, ray.d, &scene.shapes, Some(&si)),
+                    );
                     l += beta * le * w;
                 }
             }
@@ -100,7 +121,11 @@ pub fn radiance(scene: &Scene, mut ray: Ray, wl: &SampledWavelengths, sampler: &
         let front = si.ng.dot(wo) >= 0.0;
         let tc = TexCoord { uv: si.uv, p: si.p };
         let (bxdf, two_sided) = material.eval(&tc, wl, front);
-        let bsdf = Bsdf { frame: Frame::from_normal_tangent(si.ns, si.dpdu), bxdf, two_sided };
+        let bsdf = Bsdf {
+            frame: Frame::from_normal_tangent(si.ns, si.dpdu),
+            bxdf,
+            two_sided,
+        };
         let flags = bsdf.flags();
         if flags.0 == 0 {
             break;
@@ -116,13 +141,16 @@ pub fn radiance(scene: &Scene, mut ray: Ray, wl: &SampledWavelengths, sampler: &
                 let light = &scene.lights[li];
                 if let Some(ls) = light.sample_li(&ctx, u, wl, &scene.shapes) {
                     if ls.pdf > 0.0 && !ls.l.is_black() {
-                        let f = bsdf.f(wo, ls.wi, TransportMode::Radiance, sampler.rng()) * ls.wi.dot(si.ns).abs();
-                        if !f.is_black() && !scene.occluded(&Ray::spawn_to(si.p, si.ng, ls.p_light)) {
+                        let f = bsdf.f(wo, ls.wi, TransportMode::Radiance, sampler.rng())
+                            * ls.wi.dot(si.ns).abs();
+                        if !f.is_black() && !scene.occluded(&Ray::spawn_to(si.p, si.ng, ls.p_light))
+                        {
                             let light_pdf = pmf * ls.pdf;
                             let w = if ls.is_delta || strategy == PathStrategy::LightOnly {
                                 1.0
                             } else {
-                                let bsdf_pdf = bsdf.pdf(wo, ls.wi, TransportMode::Radiance, sampler.rng());
+                                let bsdf_pdf =
+                                    bsdf.pdf(wo, ls.wi, TransportMode::Radiance, sampler.rng());
                                 power_heuristic(light_pdf, bsdf_pdf)
                             };
                             l += beta * f * ls.l * (w / light_pdf);
@@ -143,7 +171,11 @@ pub fn radiance(scene: &Scene, mut ray: Ray, wl: &SampledWavelengths, sampler: &
         if !beta.is_finite() {
             break;
         }
-        prev_pdf = if bs.pdf_is_proportional { bsdf.pdf(wo, bs.wi, TransportMode::Radiance, sampler.rng()) } else { bs.pdf };
+        prev_pdf = if bs.pdf_is_proportional {
+            bsdf.pdf(wo, bs.wi, TransportMode::Radiance, sampler.rng())
+        } else {
+            bs.pdf
+        };
         specular_bounce = bs.is_specular();
         if bs.is_transmission() {
             eta_scale *= bs.eta * bs.eta;

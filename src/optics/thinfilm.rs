@@ -53,7 +53,11 @@ fn layer_cos(n: C, n0_sin0: f64) -> C {
     let mut c = (C::new(1.0, 0.0) - s * s).sqrt();
     // Forward wave: Im(n cos) > 0 when absorbing/evanescent, Re(n cos) > 0 otherwise.
     let nc = n * c;
-    let flip = if nc.im.abs() > 1e-12 * nc.norm() { nc.im < 0.0 } else { nc.re < 0.0 };
+    let flip = if nc.im.abs() > 1e-12 * nc.norm() {
+        nc.im < 0.0
+    } else {
+        nc.re < 0.0
+    };
     if flip {
         c = -c;
     }
@@ -86,26 +90,69 @@ pub fn film_rt(cos_theta0: f64, n0: f64, n1: C, d_nm: f64, n2: C, lambda_nm: f64
         let den = C::new(1.0, 0.0) + r01 * r12 * e2;
         ((r01 + r12 * e2) / den, t01 * t12 * e1 / den)
     };
-    let (r_s, t_s) = airy(rs(n0c, c0, n1, c1), rs(n1, c1, n2, c2), ts(n0c, c0, n1, c1), ts(n1, c1, n2, c2));
-    let (r_p, t_p) = airy(rp(n0c, c0, n1, c1), rp(n1, c1, n2, c2), tp(n0c, c0, n1, c1), tp(n1, c1, n2, c2));
+    let (r_s, t_s) = airy(
+        rs(n0c, c0, n1, c1),
+        rs(n1, c1, n2, c2),
+        ts(n0c, c0, n1, c1),
+        ts(n1, c1, n2, c2),
+    );
+    let (r_p, t_p) = airy(
+        rp(n0c, c0, n1, c1),
+        rp(n1, c1, n2, c2),
+        tp(n0c, c0, n1, c1),
+        tp(n1, c1, n2, c2),
+    );
 
     // Power transmittance: ratio of normal energy fluxes (tmm's convention for s and p).
     let den_s = (n0c * c0).re;
     let den_p = (n0c * c0.conj()).re;
-    let fin = |x: f64| if x.is_finite() { x.clamp(0.0, 1.0) } else { 0.0 };
+    let fin = |x: f64| {
+        if x.is_finite() {
+            x.clamp(0.0, 1.0)
+        } else {
+            0.0
+        }
+    };
     let (ts_pow, tp_pow) = if den_s > 0.0 {
-        (t_s.norm_sqr() * (n2 * c2).re / den_s, t_p.norm_sqr() * (n2 * c2.conj()).re / den_p)
+        (
+            t_s.norm_sqr() * (n2 * c2).re / den_s,
+            t_p.norm_sqr() * (n2 * c2.conj()).re / den_p,
+        )
     } else {
         // Exactly grazing incidence: nothing enters.
         (0.0, 0.0)
     };
-    let (rs2, rp2) = if den_s > 0.0 { (r_s.norm_sqr(), r_p.norm_sqr()) } else { (1.0, 1.0) };
-    FilmRt { r_s: fin(rs2), r_p: fin(rp2), t_s: fin(ts_pow), t_p: fin(tp_pow) }
+    let (rs2, rp2) = if den_s > 0.0 {
+        (r_s.norm_sqr(), r_p.norm_sqr())
+    } else {
+        (1.0, 1.0)
+    };
+    FilmRt {
+        r_s: fin(rs2),
+        r_p: fin(rp2),
+        t_s: fin(ts_pow),
+        t_p: fin(tp_pow),
+    }
 }
 
 /// Unpolarised reflectance of a film between real media (convenience for dielectric stacks).
-pub fn film_reflectance(cos_theta0: f64, n0: f64, n1: f64, d_nm: f64, n2: f64, lambda_nm: f64) -> f64 {
-    film_rt(cos_theta0, n0, C::new(n1, 0.0), d_nm, C::new(n2, 0.0), lambda_nm).r()
+pub fn film_reflectance(
+    cos_theta0: f64,
+    n0: f64,
+    n1: f64,
+    d_nm: f64,
+    n2: f64,
+    lambda_nm: f64,
+) -> f64 {
+    film_rt(
+        cos_theta0,
+        n0,
+        C::new(n1, 0.0),
+        d_nm,
+        C::new(n2, 0.0),
+        lambda_nm,
+    )
+    .r()
 }
 
 #[cfg(test)]
@@ -125,11 +172,17 @@ mod tests {
         for m in 1..=5 {
             let l_zero = opd / m as f64;
             if (360.0..=830.0).contains(&l_zero) {
-                assert!(r(1.0, 1.0, 1.56, 900.0, 1.0, l_zero) < 1e-12, "zero at {l_zero}");
+                assert!(
+                    r(1.0, 1.0, 1.56, 900.0, 1.0, l_zero) < 1e-12,
+                    "zero at {l_zero}"
+                );
             }
             let l_peak = opd / (m as f64 + 0.5);
             if (360.0..=830.0).contains(&l_peak) {
-                assert!((r(1.0, 1.0, 1.56, 900.0, 1.0, l_peak) - peak).abs() < 1e-12, "peak at {l_peak}");
+                assert!(
+                    (r(1.0, 1.0, 1.56, 900.0, 1.0, l_peak) - peak).abs() < 1e-12,
+                    "peak at {l_peak}"
+                );
             }
         }
         // The value the research note lists (0.174324) is the closed form above.
@@ -146,13 +199,22 @@ mod tests {
             (1.0, 550.0, 0.021849),
         ];
         for (cos, l, want) in cases {
-            assert!((r(cos, 1.0, 1.56, 900.0, 1.0, l) - want).abs() < 2e-6, "λ {l}");
+            assert!(
+                (r(cos, 1.0, 1.56, 900.0, 1.0, l) - want).abs() < 2e-6,
+                "λ {l}"
+            );
         }
         let c45 = 45f64.to_radians().cos();
         let rt = film_rt(c45, 1.0, C::new(1.56, 0.0), 900.0, C::new(1.0, 0.0), 550.0);
-        assert!((rt.r_s - 0.341236).abs() < 2e-6 && (rt.r_p - 0.043006).abs() < 2e-6, "{rt:?}");
+        assert!(
+            (rt.r_s - 0.341236).abs() < 2e-6 && (rt.r_p - 0.043006).abs() < 2e-6,
+            "{rt:?}"
+        );
         for (l, want) in [(650.0, 0.053629), (510.0, 0.022657), (475.0, 0.127411)] {
-            assert!((r(c45, 1.0, 1.56, 900.0, 1.0, l) - want).abs() < 2e-6, "45° λ {l}");
+            assert!(
+                (r(c45, 1.0, 1.56, 900.0, 1.0, l) - want).abs() < 2e-6,
+                "45° λ {l}"
+            );
         }
     }
 
@@ -162,7 +224,14 @@ mod tests {
         assert!((r(1.0, 1.0, 1.56, 900.0, 1.8, 500.0) - 0.030343).abs() < 2e-6);
         assert!((r(1.0, 1.0, 1.56, 900.0, 1.8, 600.0) - 0.040173).abs() < 2e-6);
         // 300 nm of 1.56 on a metal n = 0.43 + 2.45i at 550 nm.
-        let rt = film_rt(1.0, 1.0, C::new(1.56, 0.0), 300.0, C::new(0.43, 2.45), 550.0);
+        let rt = film_rt(
+            1.0,
+            1.0,
+            C::new(1.56, 0.0),
+            300.0,
+            C::new(0.43, 2.45),
+            550.0,
+        );
         assert!((rt.r() - 0.803680).abs() < 2e-6, "{}", rt.r());
         // Bare metal (d = 0): |(1 − n)/(1 + n)|².
         let n = C::new(0.43, 2.45);
@@ -203,7 +272,10 @@ mod tests {
             let d = 2000.0 * next();
             let l = 360.0 + 470.0 * next();
             let rt = film_rt(cos, n0, C::new(n1, 0.0), d, C::new(n2, 0.0), l);
-            assert!((rt.r_s + rt.t_s - 1.0).abs() < 1e-9 && (rt.r_p + rt.t_p - 1.0).abs() < 1e-9, "{rt:?}");
+            assert!(
+                (rt.r_s + rt.t_s - 1.0).abs() < 1e-9 && (rt.r_p + rt.t_p - 1.0).abs() < 1e-9,
+                "{rt:?}"
+            );
         }
         // Grazing incidence: no NaN, total reflection.
         let g = film_rt(0.0, 1.0, C::new(1.56, 0.0), 900.0, C::new(1.0, 0.0), 500.0);
@@ -240,7 +312,10 @@ mod tests {
         for (cos, n0, n1, d, (n, k), l, rs, rp, ts, tp) in cases {
             let rt = film_rt(cos, n0, C::new(n1, 0.0), d, C::new(n, k), l);
             for (got, want) in [(rt.r_s, rs), (rt.r_p, rp), (rt.t_s, ts), (rt.t_p, tp)] {
-                assert!((got - want).abs() < 1e-10, "{rt:?} vs ({rs}, {rp}, {ts}, {tp})");
+                assert!(
+                    (got - want).abs() < 1e-10,
+                    "{rt:?} vs ({rs}, {rp}, {ts}, {tp})"
+                );
             }
         }
     }

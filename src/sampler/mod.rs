@@ -35,7 +35,14 @@ pub struct Sampler {
 impl Sampler {
     /// A sampler of the given kind with a global `seed`.
     pub fn new(kind: SamplerKind, seed: u64) -> Sampler {
-        Sampler { kind, seed, rng: Pcg32::new(seed, 0), pixel_seed: 0, index: 0, dim: 0 }
+        Sampler {
+            kind,
+            seed,
+            rng: Pcg32::new(seed, 0),
+            pixel_seed: 0,
+            index: 0,
+            dim: 0,
+        }
     }
 
     /// Prepares sample `index` of pixel (x, y).

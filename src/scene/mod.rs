@@ -26,7 +26,11 @@ pub struct IntegratorSettings {
 
 impl Default for IntegratorSettings {
     fn default() -> Self {
-        IntegratorSettings { max_depth: None, rr_depth: 5, hide_emitters: false }
+        IntegratorSettings {
+            max_depth: None,
+            rr_depth: 5,
+            hide_emitters: false,
+        }
     }
 }
 

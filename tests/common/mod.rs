@@ -20,8 +20,19 @@ pub fn scene(xml: &str) -> Scene {
 /// Renders a scene with the given strategy; returns linear sRGB pixels.
 pub fn render_rgb(scene: &Scene, spp: u32, strategy: PathStrategy) -> Vec<[f32; 3]> {
     let mut film = Film::new(scene.width, scene.height);
-    let opts = RenderOptions { spp, time_limit: None, strategy };
-    render(scene, &mut film, 0, &opts, &AtomicBool::new(false), &NoProgress);
+    let opts = RenderOptions {
+        spp,
+        time_limit: None,
+        strategy,
+    };
+    render(
+        scene,
+        &mut film,
+        0,
+        &opts,
+        &AtomicBool::new(false),
+        &NoProgress,
+    );
     film.to_linear_srgb()
 }
 

@@ -169,7 +169,6 @@ fn black_map_and_bad_images() {
 }
 
 #[test]
-#[ignore = "needs rgb2spec"]
 fn rgb_texels_are_uplifted_as_illuminants() {
     let mut img = RgbImage::new(4, 2);
     img.data[1] = [0.8, 0.4, 0.1];

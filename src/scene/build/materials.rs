@@ -27,7 +27,11 @@ impl Builder {
 }
 
 /// The material index for a BSDF node, building it once per node (shared through `<ref>`).
-pub(crate) fn material_for(b: &mut Builder, node: &Arc<Node>, warnings: &mut Vec<Warning>) -> Result<u32, SceneError> {
+pub(crate) fn material_for(
+    b: &mut Builder,
+    node: &Arc<Node>,
+    warnings: &mut Vec<Warning>,
+) -> Result<u32, SceneError> {
     let key = Arc::as_ptr(node);
     if let Some(&i) = b.material_ids.get(&key) {
         return Ok(i);
@@ -40,26 +44,59 @@ pub(crate) fn material_for(b: &mut Builder, node: &Arc<Node>, warnings: &mut Vec
 }
 
 fn build_material(node: &Node, warnings: &mut Vec<Warning>) -> Result<Material, SceneError> {
-    let sr = |name: &str| spectrum_texture(node, name, SpectrumKind::Albedo, Spectrum::Constant(1.0));
+    let sr =
+        |name: &str| spectrum_texture(node, name, SpectrumKind::Albedo, Spectrum::Constant(1.0));
     Ok(match node.plugin.as_str() {
-        "diffuse" => Material::diffuse(spectrum_texture(node, "reflectance", SpectrumKind::Albedo, Spectrum::Constant(0.5))?),
-        "dielectric" => Material::dielectric(ior(node, "int_ior", "bk7")?, ior(node, "ext_ior", "air")?, sr("specular_reflectance")?, sr("specular_transmittance")?),
-        "thindielectric" => {
-            Material::thin_dielectric(ior(node, "int_ior", "bk7")?, ior(node, "ext_ior", "air")?, sr("specular_reflectance")?, sr("specular_transmittance")?)
-        }
+        "diffuse" => Material::diffuse(spectrum_texture(
+            node,
+            "reflectance",
+            SpectrumKind::Albedo,
+            Spectrum::Constant(0.5),
+        )?),
+        "dielectric" => Material::dielectric(
+            ior(node, "int_ior", "bk7")?,
+            ior(node, "ext_ior", "air")?,
+            sr("specular_reflectance")?,
+            sr("specular_transmittance")?,
+        ),
+        "thindielectric" => Material::thin_dielectric(
+            ior(node, "int_ior", "bk7")?,
+            ior(node, "ext_ior", "air")?,
+            sr("specular_reflectance")?,
+            sr("specular_transmittance")?,
+        ),
         "roughdielectric" => {
             let (dist, au, av) = roughness(node)?;
-            Material::rough_dielectric(dist, au, av, ior(node, "int_ior", "bk7")?, ior(node, "ext_ior", "air")?, sr("specular_reflectance")?, sr("specular_transmittance")?)
+            Material::rough_dielectric(
+                dist,
+                au,
+                av,
+                ior(node, "int_ior", "bk7")?,
+                ior(node, "ext_ior", "air")?,
+                sr("specular_reflectance")?,
+                sr("specular_transmittance")?,
+            )
         }
         "conductor" => Material::conductor(conductor_ior(node)?, sr("specular_reflectance")?),
         "roughconductor" => {
             let (dist, au, av) = roughness(node)?;
-            Material::rough_conductor(dist, au, av, conductor_ior(node)?, sr("specular_reflectance")?)
+            Material::rough_conductor(
+                dist,
+                au,
+                av,
+                conductor_ior(node)?,
+                sr("specular_reflectance")?,
+            )
         }
         "plastic" => Material::plastic(
             ior_or(node, "int_ior", PLASTIC_INT_IOR)?,
             ior(node, "ext_ior", "air")?,
-            spectrum_texture(node, "diffuse_reflectance", SpectrumKind::Albedo, Spectrum::Constant(0.5))?,
+            spectrum_texture(
+                node,
+                "diffuse_reflectance",
+                SpectrumKind::Albedo,
+                Spectrum::Constant(0.5),
+            )?,
             sr("specular_reflectance")?,
             node.props.get_bool("nonlinear", false)?,
         ),
@@ -70,7 +107,12 @@ fn build_material(node: &Node, warnings: &mut Vec<Warning>) -> Result<Material, 
                 alpha,
                 ior_or(node, "int_ior", PLASTIC_INT_IOR)?,
                 ior(node, "ext_ior", "air")?,
-                spectrum_texture(node, "diffuse_reflectance", SpectrumKind::Albedo, Spectrum::Constant(0.5))?,
+                spectrum_texture(
+                    node,
+                    "diffuse_reflectance",
+                    SpectrumKind::Albedo,
+                    Spectrum::Constant(0.5),
+                )?,
                 sr("specular_reflectance")?,
                 node.props.get_bool("nonlinear", false)?,
             )
@@ -79,13 +121,29 @@ fn build_material(node: &Node, warnings: &mut Vec<Warning>) -> Result<Material, 
             let inner: Vec<&Arc<Node>> = node.children_with_tag(Tag::Bsdf).collect();
             match inner.as_slice() {
                 [front] => Material::two_sided(build_material(front, warnings)?, None),
-                [front, back] => Material::two_sided(build_material(front, warnings)?, Some(build_material(back, warnings)?)),
-                _ => return Err(SceneError::at(&node.loc, format!("twosided needs one or two nested BSDFs, found {}", inner.len()))),
+                [front, back] => Material::two_sided(
+                    build_material(front, warnings)?,
+                    Some(build_material(back, warnings)?),
+                ),
+                _ => {
+                    return Err(SceneError::at(
+                        &node.loc,
+                        format!(
+                            "twosided needs one or two nested BSDFs, found {}",
+                            inner.len()
+                        ),
+                    ))
+                }
             }
         }
         "null" => Material::Null,
         other => {
-            warnings.push(Warning { loc: node.loc.clone(), message: format!("BSDF '{other}' is not supported by ophis; using a grey diffuse BSDF") });
+            warnings.push(Warning {
+                loc: node.loc.clone(),
+                message: format!(
+                    "BSDF '{other}' is not supported by ophis; using a grey diffuse BSDF"
+                ),
+            });
             Material::default_diffuse()
         }
     })
@@ -104,10 +162,16 @@ fn ior_or(node: &Node, name: &str, default: f32) -> Result<f32, SceneError> {
 fn roughness(node: &Node) -> Result<(MicrofacetType, FloatTexture, FloatTexture), SceneError> {
     let name = node.props.get_string("distribution", "beckmann")?;
     let dist = MicrofacetType::from_name(&name).ok_or_else(|| {
-        SceneError::at(node.props.location("distribution").unwrap_or(&node.loc), format!("distribution must be 'beckmann' or 'ggx', got '{name}'"))
+        SceneError::at(
+            node.props.location("distribution").unwrap_or(&node.loc),
+            format!("distribution must be 'beckmann' or 'ggx', got '{name}'"),
+        )
     })?;
     node.props.get_bool("sample_visible", true)?;
-    if node.props.contains("alpha_u") || node.props.contains("alpha_v") || node.child("alpha_u").is_some() {
+    if node.props.contains("alpha_u")
+        || node.props.contains("alpha_v")
+        || node.child("alpha_u").is_some()
+    {
         let au = float_texture(node, "alpha_u", DEFAULT_ALPHA)?;
         let av = float_texture(node, "alpha_v", DEFAULT_ALPHA)?;
         Ok((dist, au, av))
@@ -121,7 +185,12 @@ fn roughness(node: &Node) -> Result<(MicrofacetType, FloatTexture, FloatTexture)
 fn conductor_ior(node: &Node) -> Result<Option<ConductorIor>, SceneError> {
     let ext_ior = ior(node, "ext_eta", "air")?;
     if node.props.contains("eta") || node.props.contains("k") {
-        let eta = spectrum(node, "eta", SpectrumKind::Unbounded, Spectrum::Constant(0.0))?;
+        let eta = spectrum(
+            node,
+            "eta",
+            SpectrumKind::Unbounded,
+            Spectrum::Constant(0.0),
+        )?;
         let k = spectrum(node, "k", SpectrumKind::Unbounded, Spectrum::Constant(1.0))?;
         return Ok(Some(ConductorIor { eta, k, ext_ior }));
     }
@@ -132,22 +201,34 @@ fn conductor_ior(node: &Node) -> Result<Option<ConductorIor>, SceneError> {
     let (eta, k) = named_ior::conductor_nk(&name).ok_or_else(|| {
         SceneError::at(
             node.props.location("material").unwrap_or(&node.loc),
-            format!("unknown conductor material '{name}' (known: none, {})", named_ior::conductor_names().join(", ")),
+            format!(
+                "unknown conductor material '{name}' (known: none, {})",
+                named_ior::conductor_names().join(", ")
+            ),
         )
     })?;
     Ok(Some(ConductorIor { eta, k, ext_ior }))
 }
 
 /// A colour parameter: a nested or referenced texture named `name`, or a value.
-pub(crate) fn spectrum_texture(node: &Node, name: &str, kind: SpectrumKind, default: Spectrum) -> Result<SpectrumTexture, SceneError> {
+pub(crate) fn spectrum_texture(
+    node: &Node,
+    name: &str,
+    kind: SpectrumKind,
+    default: Spectrum,
+) -> Result<SpectrumTexture, SceneError> {
     if let Some(tex) = node.child(name).filter(|c| c.tag == Tag::Texture) {
         return texture(tex, kind);
     }
-    Ok(SpectrumTexture::Constant(spectrum(node, name, kind, default)?))
+    Ok(SpectrumTexture::Constant(spectrum(
+        node, name, kind, default,
+    )?))
 }
 
 fn uv_transform(node: &Node) -> Result<Mat3, SceneError> {
-    let t = node.props.get_transform("to_uv", crate::math::Transform::IDENTITY)?;
+    let t = node
+        .props
+        .get_transform("to_uv", crate::math::Transform::IDENTITY)?;
     // Mitsuba's to_uv acts on (u, v, 1) homogeneous coordinates: keep the 2D affine part.
     let m = t.m;
     Ok(Mat3::from_cols(
@@ -164,7 +245,10 @@ fn texture(tex: &Node, kind: SpectrumKind) -> Result<SpectrumTexture, SceneError
             color1: spectrum(tex, "color1", kind, Spectrum::Constant(0.2))?,
             to_uv: uv_transform(tex)?,
         }),
-        other => Err(SceneError::at(&tex.loc, format!("texture '{other}' is not supported by ophis (supported: checkerboard)"))),
+        other => Err(SceneError::at(
+            &tex.loc,
+            format!("texture '{other}' is not supported by ophis (supported: checkerboard)"),
+        )),
     }
 }
 
@@ -173,13 +257,30 @@ fn float_texture(node: &Node, name: &str, default: f32) -> Result<FloatTexture, 
     if let Some(tex) = node.child(name).filter(|c| c.tag == Tag::Texture) {
         return match tex.plugin.as_str() {
             "checkerboard" => {
-                let c0 = spectrum_opt(tex, "color0", SpectrumKind::Unbounded)?.map(|s| s.max_value()).unwrap_or(0.4);
-                let c1 = spectrum_opt(tex, "color1", SpectrumKind::Unbounded)?.map(|s| s.max_value()).unwrap_or(0.2);
-                Ok(FloatTexture::Checkerboard { color0: c0, color1: c1, to_uv: uv_transform(tex)? })
+                let c0 = spectrum_opt(tex, "color0", SpectrumKind::Unbounded)?
+                    .map(|s| s.max_value())
+                    .unwrap_or(0.4);
+                let c1 = spectrum_opt(tex, "color1", SpectrumKind::Unbounded)?
+                    .map(|s| s.max_value())
+                    .unwrap_or(0.2);
+                Ok(FloatTexture::Checkerboard {
+                    color0: c0,
+                    color1: c1,
+                    to_uv: uv_transform(tex)?,
+                })
             }
-            other => Err(SceneError::at(&tex.loc, format!("texture '{other}' is not supported for '{name}'"))),
+            other => Err(SceneError::at(
+                &tex.loc,
+                format!("texture '{other}' is not supported for '{name}'"),
+            )),
         };
     }
-    let v = checked_float(node, name, default, |v| (0.0..=10.0).contains(&v), "between 0 and 10")?;
+    let v = checked_float(
+        node,
+        name,
+        default,
+        |v| (0.0..=10.0).contains(&v),
+        "between 0 and 10",
+    )?;
     Ok(FloatTexture::Constant(v))
 }

@@ -45,7 +45,11 @@ pub fn load_scene(path: &Path, opts: &LoadOptions) -> Result<(Scene, Vec<Warning
 }
 
 /// Loads a scene from XML text (`file_name` names it in messages and anchors relative paths).
-pub fn load_scene_str(xml: &str, file_name: &Path, opts: &LoadOptions) -> Result<(Scene, Vec<Warning>), SceneError> {
+pub fn load_scene_str(
+    xml: &str,
+    file_name: &Path,
+    opts: &LoadOptions,
+) -> Result<(Scene, Vec<Warning>), SceneError> {
     let (root, mut warnings) = mitsuba::load_str(xml, file_name, &opts.defines)?;
     let scene = build_scene(&root, opts, &mut warnings)?;
     warnings.extend(mitsuba::check_unused(&root));
@@ -65,7 +69,11 @@ pub(crate) struct Builder {
     pub default_material: Option<u32>,
 }
 
-fn build_scene(root: &Node, opts: &LoadOptions, warnings: &mut Vec<Warning>) -> Result<Scene, SceneError> {
+fn build_scene(
+    root: &Node,
+    opts: &LoadOptions,
+    warnings: &mut Vec<Warning>,
+) -> Result<Scene, SceneError> {
     let mut b = Builder::default();
     let mut sensor: Option<&Arc<Node>> = None;
     let mut integrator = IntegratorSettings::default();
@@ -76,7 +84,10 @@ fn build_scene(root: &Node, opts: &LoadOptions, warnings: &mut Vec<Warning>) -> 
             Tag::Emitter => emitters::add_emitter(&mut b, node, warnings)?,
             Tag::Sensor => {
                 if sensor.is_some() {
-                    warnings.push(Warning { loc: node.loc.clone(), message: "only the first sensor is used".into() });
+                    warnings.push(Warning {
+                        loc: node.loc.clone(),
+                        message: "only the first sensor is used".into(),
+                    });
                 } else {
                     sensor = Some(node);
                 }
@@ -84,7 +95,13 @@ fn build_scene(root: &Node, opts: &LoadOptions, warnings: &mut Vec<Warning>) -> 
             Tag::Integrator => integrator = build_integrator(node, warnings)?,
             // Declared for later <ref>s; built when referenced.
             Tag::Bsdf | Tag::Texture => {}
-            _ => warnings.push(Warning { loc: node.loc.clone(), message: format!("{} is not supported by ophis and is ignored", node.describe()) }),
+            _ => warnings.push(Warning {
+                loc: node.loc.clone(),
+                message: format!(
+                    "{} is not supported by ophis and is ignored",
+                    node.describe()
+                ),
+            }),
         }
     }
 
@@ -92,8 +109,19 @@ fn build_scene(root: &Node, opts: &LoadOptions, warnings: &mut Vec<Warning>) -> 
         Some(s) => build_sensor(s, warnings)?,
         None => {
             let (w, h) = (768, 576);
-            let cam = PerspectiveCamera::new(Transform::IDENTITY, 45.0, FovAxis::X, w, h, 1e-2, 1e4);
-            (cam, w, h, Filter::gaussian(0.5), SamplerSettings { kind: SamplerKind::Independent, spp: 4, seed: 0 })
+            let cam =
+                PerspectiveCamera::new(Transform::IDENTITY, 45.0, FovAxis::X, w, h, 1e-2, 1e4);
+            (
+                cam,
+                w,
+                h,
+                Filter::gaussian(0.5),
+                SamplerSettings {
+                    kind: SamplerKind::Independent,
+                    spp: 4,
+                    seed: 0,
+                },
+            )
         }
     };
     if let Some(spp) = opts.spp {
@@ -114,11 +142,20 @@ fn build_scene(root: &Node, opts: &LoadOptions, warnings: &mut Vec<Warning>) -> 
     for l in &mut b.lights {
         l.preprocess(&bounds);
     }
-    let infinite_lights = b.lights.iter().enumerate().filter(|(_, l)| l.is_infinite()).map(|(i, _)| i as u32).collect();
+    let infinite_lights = b
+        .lights
+        .iter()
+        .enumerate()
+        .filter(|(_, l)| l.is_infinite())
+        .map(|(i, _)| i as u32)
+        .collect();
     let powers: Vec<f32> = b.lights.iter().map(|l| l.power(&b.shapes)).collect();
     let light_sampler = LightSampler::new(&powers);
     if b.lights.is_empty() {
-        warnings.push(Warning { loc: root.loc.clone(), message: "the scene has no emitters: the image will be black".into() });
+        warnings.push(Warning {
+            loc: root.loc.clone(),
+            message: "the scene has no emitters: the image will be black".into(),
+        });
     }
     Ok(Scene {
         shapes: b.shapes,
@@ -139,18 +176,31 @@ fn build_scene(root: &Node, opts: &LoadOptions, warnings: &mut Vec<Warning>) -> 
     })
 }
 
-fn build_integrator(node: &Node, warnings: &mut Vec<Warning>) -> Result<IntegratorSettings, SceneError> {
+fn build_integrator(
+    node: &Node,
+    warnings: &mut Vec<Warning>,
+) -> Result<IntegratorSettings, SceneError> {
     match node.plugin.as_str() {
         "path" => {}
         other => warnings.push(Warning {
             loc: node.loc.clone(),
-            message: format!("integrator '{other}' is not supported; using 'path' with its parameters"),
+            message: format!(
+                "integrator '{other}' is not supported; using 'path' with its parameters"
+            ),
         }),
     }
     let max_depth = checked_int(node, "max_depth", -1, -1, 1 << 20)?;
     let rr_depth = checked_int(node, "rr_depth", 5, 0, 1 << 20)?;
     let hide_emitters = node.props.get_bool("hide_emitters", false)?;
-    Ok(IntegratorSettings { max_depth: if max_depth < 0 { None } else { Some(max_depth as u32) }, rr_depth: rr_depth as u32, hide_emitters })
+    Ok(IntegratorSettings {
+        max_depth: if max_depth < 0 {
+            None
+        } else {
+            Some(max_depth as u32)
+        },
+        rr_depth: rr_depth as u32,
+        hide_emitters,
+    })
 }
 
 type SensorParts = (PerspectiveCamera, u32, u32, Filter, SamplerSettings);
@@ -159,19 +209,29 @@ fn build_sensor(node: &Node, warnings: &mut Vec<Warning>) -> Result<SensorParts,
     if node.plugin != "perspective" {
         warnings.push(Warning {
             loc: node.loc.clone(),
-            message: format!("sensor '{}' is not supported; rendering it as a 'perspective' pinhole camera", node.plugin),
+            message: format!(
+                "sensor '{}' is not supported; rendering it as a 'perspective' pinhole camera",
+                node.plugin
+            ),
         });
     }
     let mut width = 768;
     let mut height = 576;
     let mut filter = Filter::gaussian(0.5);
-    let mut sampler = SamplerSettings { kind: SamplerKind::Independent, spp: 4, seed: 0 };
+    let mut sampler = SamplerSettings {
+        kind: SamplerKind::Independent,
+        spp: 4,
+        seed: 0,
+    };
     for child in &node.children {
         let c = &child.node;
         match c.tag {
             Tag::Film => {
                 if c.plugin != "hdrfilm" && c.plugin != "ldrfilm" {
-                    warnings.push(Warning { loc: c.loc.clone(), message: format!("film '{}' is treated as 'hdrfilm'", c.plugin) });
+                    warnings.push(Warning {
+                        loc: c.loc.clone(),
+                        message: format!("film '{}' is treated as 'hdrfilm'", c.plugin),
+                    });
                 }
                 width = checked_int(c, "width", 768, 1, MAX_RESOLUTION)? as u32;
                 height = checked_int(c, "height", 576, 1, MAX_RESOLUTION)? as u32;
@@ -182,16 +242,23 @@ fn build_sensor(node: &Node, warnings: &mut Vec<Warning>) -> Result<SensorParts,
             Tag::Sampler => {
                 sampler.kind = match c.plugin.as_str() {
                     "independent" => SamplerKind::Independent,
-                    "stratified" | "multijitter" | "ldsampler" | "orthogonal" | "sobol" | "halton" | "hammersley" => SamplerKind::Sobol,
+                    "stratified" | "multijitter" | "ldsampler" | "orthogonal" | "sobol"
+                    | "halton" | "hammersley" => SamplerKind::Sobol,
                     other => {
-                        warnings.push(Warning { loc: c.loc.clone(), message: format!("sampler '{other}' is unknown; using 'independent'") });
+                        warnings.push(Warning {
+                            loc: c.loc.clone(),
+                            message: format!("sampler '{other}' is unknown; using 'independent'"),
+                        });
                         SamplerKind::Independent
                     }
                 };
                 sampler.spp = checked_int(c, "sample_count", 4, 1, 1 << 24)? as u32;
                 sampler.seed = checked_int(c, "seed", 0, 0, i64::MAX)? as u64;
             }
-            _ => warnings.push(Warning { loc: c.loc.clone(), message: format!("{} inside a sensor is ignored", c.describe()) }),
+            _ => warnings.push(Warning {
+                loc: c.loc.clone(),
+                message: format!("{} inside a sensor is ignored", c.describe()),
+            }),
         }
     }
     let fov = match node.props.get_float_opt("fov")? {
@@ -200,7 +267,10 @@ fn build_sensor(node: &Node, warnings: &mut Vec<Warning>) -> Result<SensorParts,
             // Mitsuba also accepts a focal length such as "50mm" (35 mm film equivalent).
             let fl = node.props.get_string("focal_length", "50mm")?;
             let mm: f32 = fl.trim_end_matches("mm").trim().parse().map_err(|_| {
-                SceneError::at(node.props.location("focal_length").unwrap_or(&node.loc), format!("focal_length must look like '50mm', got '{fl}'"))
+                SceneError::at(
+                    node.props.location("focal_length").unwrap_or(&node.loc),
+                    format!("focal_length must look like '50mm', got '{fl}'"),
+                )
             })?;
             if !(mm > 0.0) {
                 return Err(SceneError::at(&node.loc, "focal_length must be positive"));
@@ -210,17 +280,39 @@ fn build_sensor(node: &Node, warnings: &mut Vec<Warning>) -> Result<SensorParts,
         }
     };
     if !(fov > 0.0 && fov < 180.0) {
-        return Err(SceneError::at(node.props.location("fov").unwrap_or(&node.loc), format!("fov must be between 0 and 180 degrees, got {fov}")));
+        return Err(SceneError::at(
+            node.props.location("fov").unwrap_or(&node.loc),
+            format!("fov must be between 0 and 180 degrees, got {fov}"),
+        ));
     }
-    let axis_name = node.props.get_string("fov_axis", if node.props.contains("fov") { "x" } else { "diagonal" })?;
+    let axis_name = node.props.get_string(
+        "fov_axis",
+        if node.props.contains("fov") {
+            "x"
+        } else {
+            "diagonal"
+        },
+    )?;
     let axis = FovAxis::from_name(&axis_name).ok_or_else(|| {
         SceneError::at(
             node.props.location("fov_axis").unwrap_or(&node.loc),
             format!("fov_axis must be one of x, y, diagonal, smaller, larger; got '{axis_name}'"),
         )
     })?;
-    let near = checked_float(node, "near_clip", 1e-2, |v| v > 0.0 && v.is_finite(), "positive")?;
-    let far = checked_float(node, "far_clip", 1e4, |v| v > near && v.is_finite(), "greater than near_clip")?;
+    let near = checked_float(
+        node,
+        "near_clip",
+        1e-2,
+        |v| v > 0.0 && v.is_finite(),
+        "positive",
+    )?;
+    let far = checked_float(
+        node,
+        "far_clip",
+        1e4,
+        |v| v > near && v.is_finite(),
+        "greater than near_clip",
+    )?;
     let to_world = node.props.get_transform("to_world", Transform::IDENTITY)?;
     let cam = PerspectiveCamera::new(to_world, fov, axis, width, height, near, far);
     Ok((cam, width, height, filter, sampler))
@@ -229,10 +321,23 @@ fn build_sensor(node: &Node, warnings: &mut Vec<Warning>) -> Result<SensorParts,
 fn build_filter(node: &Node, warnings: &mut Vec<Warning>) -> Result<Filter, SceneError> {
     Ok(match node.plugin.as_str() {
         "box" => Filter::Box,
-        "tent" => Filter::Tent { radius: checked_float(node, "radius", 1.0, |v| v > 0.0 && v <= 16.0, "in (0, 16]")? },
-        "gaussian" => Filter::gaussian(checked_float(node, "stddev", 0.5, |v| v > 0.0 && v <= 4.0, "in (0, 4]")?),
+        "tent" => Filter::Tent {
+            radius: checked_float(node, "radius", 1.0, |v| v > 0.0 && v <= 16.0, "in (0, 16]")?,
+        },
+        "gaussian" => Filter::gaussian(checked_float(
+            node,
+            "stddev",
+            0.5,
+            |v| v > 0.0 && v <= 4.0,
+            "in (0, 4]",
+        )?),
         other => {
-            warnings.push(Warning { loc: node.loc.clone(), message: format!("reconstruction filter '{other}' is not supported; using 'gaussian'") });
+            warnings.push(Warning {
+                loc: node.loc.clone(),
+                message: format!(
+                    "reconstruction filter '{other}' is not supported; using 'gaussian'"
+                ),
+            });
             Filter::gaussian(0.5)
         }
     })

@@ -4,12 +4,17 @@
 use super::emitters::area_light;
 use super::materials::material_for;
 use super::Builder;
+use crate::math::{Transform, Vec3};
 use crate::scene::mitsuba::{Node, SceneError, Tag, Warning};
 use crate::shape::{MeshOptions, Shape, Sphere, TriangleMesh};
-use crate::math::{Transform, Vec3};
 
-pub(crate) fn add_shape(b: &mut Builder, node: &Node, warnings: &mut Vec<Warning>) -> Result<(), SceneError> {
-    let err = |e: &dyn std::fmt::Display| SceneError::at(&node.loc, format!("{}: {e}", node.describe()));
+pub(crate) fn add_shape(
+    b: &mut Builder,
+    node: &Node,
+    warnings: &mut Vec<Warning>,
+) -> Result<(), SceneError> {
+    let err =
+        |e: &dyn std::fmt::Display| SceneError::at(&node.loc, format!("{}: {e}", node.describe()));
     let to_world = node.props.get_transform("to_world", Transform::IDENTITY)?;
     let flip = node.props.get_bool("flip_normals", false)?;
     let shape = match node.plugin.as_str() {
@@ -18,7 +23,13 @@ pub(crate) fn add_shape(b: &mut Builder, node: &Node, warnings: &mut Vec<Warning
             let radius = node.props.get_float("radius", 1.0)?;
             if !(radius > 0.0 && radius.is_finite()) {
                 let loc = node.props.location("radius").unwrap_or(&node.loc);
-                return Err(SceneError::at(loc, format!("radius of {} must be positive, got {radius}", node.describe())));
+                return Err(SceneError::at(
+                    loc,
+                    format!(
+                        "radius of {} must be positive, got {radius}",
+                        node.describe()
+                    ),
+                ));
             }
             Shape::Sphere(Sphere::new(center, radius, &to_world, flip).map_err(|e| err(&e))?)
         }
@@ -27,26 +38,44 @@ pub(crate) fn add_shape(b: &mut Builder, node: &Node, warnings: &mut Vec<Warning
         "cube" => Shape::Mesh(TriangleMesh::cube(&to_world, flip).map_err(|e| err(&e))?),
         "obj" | "ply" => {
             let Some(path) = node.props.get_path_opt("filename")? else {
-                return Err(SceneError::at(&node.loc, format!("{} needs a 'filename'", node.describe())));
+                return Err(SceneError::at(
+                    &node.loc,
+                    format!("{} needs a 'filename'", node.describe()),
+                ));
             };
             let opts = MeshOptions {
                 flip_normals: flip,
                 face_normals: node.props.get_bool("face_normals", false)?,
                 flip_tex_coords: node.props.get_bool("flip_tex_coords", true)?,
             };
-            let loc = node.props.location("filename").cloned().unwrap_or_else(|| node.loc.clone());
-            let mesh = if node.plugin == "obj" { TriangleMesh::from_obj(&path, &to_world, &opts) } else { TriangleMesh::from_ply(&path, &to_world, &opts) }
-                .map_err(|e| SceneError::at(&loc, format!("{}: {e}", node.describe())))?;
+            let loc = node
+                .props
+                .location("filename")
+                .cloned()
+                .unwrap_or_else(|| node.loc.clone());
+            let mesh = if node.plugin == "obj" {
+                TriangleMesh::from_obj(&path, &to_world, &opts)
+            } else {
+                TriangleMesh::from_ply(&path, &to_world, &opts)
+            }
+            .map_err(|e| SceneError::at(&loc, format!("{}: {e}", node.describe())))?;
             if mesh.degenerate_dropped() > 0 {
                 warnings.push(Warning {
                     loc: node.loc.clone(),
-                    message: format!("{}: dropped {} degenerate triangles", node.describe(), mesh.degenerate_dropped()),
+                    message: format!(
+                        "{}: dropped {} degenerate triangles",
+                        node.describe(),
+                        mesh.degenerate_dropped()
+                    ),
                 });
             }
             Shape::Mesh(mesh)
         }
         other => {
-            warnings.push(Warning { loc: node.loc.clone(), message: format!("shape '{other}' is not supported by ophis and is ignored") });
+            warnings.push(Warning {
+                loc: node.loc.clone(),
+                message: format!("shape '{other}' is not supported by ophis and is ignored"),
+            });
             return Ok(());
         }
     };
@@ -57,7 +86,14 @@ pub(crate) fn add_shape(b: &mut Builder, node: &Node, warnings: &mut Vec<Warning
         match c.node.tag {
             Tag::Bsdf if bsdf_node.is_none() => bsdf_node = Some(&c.node),
             Tag::Emitter if emitter_node.is_none() => emitter_node = Some(&c.node),
-            _ => warnings.push(Warning { loc: c.node.loc.clone(), message: format!("{} inside {} is ignored", c.node.describe(), node.describe()) }),
+            _ => warnings.push(Warning {
+                loc: c.node.loc.clone(),
+                message: format!(
+                    "{} inside {} is ignored",
+                    c.node.describe(),
+                    node.describe()
+                ),
+            }),
         }
     }
     let material = match bsdf_node {

@@ -21,7 +21,11 @@ pub enum SpectrumKind {
 }
 
 /// Reads parameter `name` of `node` as a spectrum, or `None` if absent.
-pub fn spectrum_opt(node: &Node, name: &str, kind: SpectrumKind) -> Result<Option<Spectrum>, SceneError> {
+pub fn spectrum_opt(
+    node: &Node,
+    name: &str,
+    kind: SpectrumKind,
+) -> Result<Option<Spectrum>, SceneError> {
     let Some((value, loc)) = node.props.get(name) else {
         return Ok(None);
     };
@@ -46,19 +50,35 @@ pub fn spectrum_opt(node: &Node, name: &str, kind: SpectrumKind) -> Result<Optio
             })?;
             Spectrum::PiecewiseLinear(Arc::new(pl))
         }
-        Value::Spectrum(SpectrumValue::File(path)) => {
-            Spectrum::PiecewiseLinear(Arc::new(read_spd(path).map_err(|m| SceneError::at(loc, m))?))
-        }
+        Value::Spectrum(SpectrumValue::File(path)) => Spectrum::PiecewiseLinear(Arc::new(
+            read_spd(path).map_err(|m| SceneError::at(loc, m))?,
+        )),
         Value::Blackbody { temperature, scale } => {
             if !(*temperature > 0.0 && temperature.is_finite()) {
-                return Err(SceneError::at(loc, format!("blackbody temperature must be positive, got {temperature}")));
+                return Err(SceneError::at(
+                    loc,
+                    format!("blackbody temperature must be positive, got {temperature}"),
+                ));
             }
-            Spectrum::Blackbody { temperature: *temperature, scale: *scale }
+            Spectrum::Blackbody {
+                temperature: *temperature,
+                scale: *scale,
+            }
         }
-        _ => return Err(node.props.type_error(name, "a spectrum (float, rgb, spectrum or blackbody)")),
+        _ => {
+            return Err(node
+                .props
+                .type_error(name, "a spectrum (float, rgb, spectrum or blackbody)"))
+        }
     };
     if let Some(bad) = negative(&s) {
-        return Err(SceneError::at(loc, format!("parameter '{name}' of {} must not be negative (found {bad})", node.describe())));
+        return Err(SceneError::at(
+            loc,
+            format!(
+                "parameter '{name}' of {} must not be negative (found {bad})",
+                node.describe()
+            ),
+        ));
     }
     Ok(Some(s))
 }
@@ -72,13 +92,19 @@ fn negative(s: &Spectrum) -> Option<f32> {
 }
 
 /// Like [`spectrum_opt`] with a default.
-pub fn spectrum(node: &Node, name: &str, kind: SpectrumKind, default: Spectrum) -> Result<Spectrum, SceneError> {
+pub fn spectrum(
+    node: &Node,
+    name: &str,
+    kind: SpectrumKind,
+    default: Spectrum,
+) -> Result<Spectrum, SceneError> {
     Ok(spectrum_opt(node, name, kind)?.unwrap_or(default))
 }
 
 /// Reads a Mitsuba `.spd` file: lines of "wavelength value", `#` comments.
 pub fn read_spd(path: &Path) -> Result<PiecewiseLinear, String> {
-    let text = std::fs::read_to_string(path).map_err(|e| format!("cannot read spectrum file {}: {e}", path.display()))?;
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| format!("cannot read spectrum file {}: {e}", path.display()))?;
     let mut l = Vec::new();
     let mut v = Vec::new();
     for (i, line) in text.lines().enumerate() {
@@ -87,51 +113,102 @@ pub fn read_spd(path: &Path) -> Result<PiecewiseLinear, String> {
             continue;
         }
         let mut it = line.split_whitespace();
-        let parse = |s: Option<&str>| s.and_then(|s| s.parse::<f32>().ok()).filter(|x| x.is_finite());
+        let parse = |s: Option<&str>| {
+            s.and_then(|s| s.parse::<f32>().ok())
+                .filter(|x| x.is_finite())
+        };
         match (parse(it.next()), parse(it.next())) {
             (Some(a), Some(b)) => {
                 l.push(a);
                 v.push(b);
             }
-            _ => return Err(format!("{}:{}: expected 'wavelength value', found '{line}'", path.display(), i + 1)),
+            _ => {
+                return Err(format!(
+                    "{}:{}: expected 'wavelength value', found '{line}'",
+                    path.display(),
+                    i + 1
+                ))
+            }
         }
     }
-    PiecewiseLinear::new(l, v).ok_or_else(|| format!("{}: empty spectrum or wavelengths not strictly increasing", path.display()))
+    PiecewiseLinear::new(l, v).ok_or_else(|| {
+        format!(
+            "{}: empty spectrum or wavelengths not strictly increasing",
+            path.display()
+        )
+    })
 }
 
 /// An index of refraction given as a number or a Mitsuba material name (`bk7`, `water`, …).
 pub fn ior(node: &Node, name: &str, default: &str) -> Result<f32, SceneError> {
-    let loc = node.props.location(name).cloned().unwrap_or_else(|| node.loc.clone());
+    let loc = node
+        .props
+        .location(name)
+        .cloned()
+        .unwrap_or_else(|| node.loc.clone());
     let v = match node.props.get(name) {
         None => ior::dielectric_ior(default).expect("default IOR names are known"),
         Some((Value::Float(_) | Value::Integer(_), _)) => node.props.get_float(name, 1.0)?,
         Some((Value::String(s), _)) => ior::dielectric_ior(s).ok_or_else(|| {
-            SceneError::at(&loc, format!("unknown index of refraction '{s}' for '{name}' of {}", node.describe()))
+            SceneError::at(
+                &loc,
+                format!(
+                    "unknown index of refraction '{s}' for '{name}' of {}",
+                    node.describe()
+                ),
+            )
         })?,
         Some(_) => return Err(node.props.type_error(name, "a float or an IOR name")),
     };
     if !(v > 0.0 && v.is_finite()) {
-        return Err(SceneError::at(&loc, format!("'{name}' of {} must be a positive index of refraction, got {v}", node.describe())));
+        return Err(SceneError::at(
+            &loc,
+            format!(
+                "'{name}' of {} must be a positive index of refraction, got {v}",
+                node.describe()
+            ),
+        ));
     }
     Ok(v)
 }
 
 /// A float that must satisfy `ok`, with `what` describing the constraint for the message.
-pub fn checked_float(node: &Node, name: &str, default: f32, ok: impl Fn(f32) -> bool, what: &str) -> Result<f32, SceneError> {
+pub fn checked_float(
+    node: &Node,
+    name: &str,
+    default: f32,
+    ok: impl Fn(f32) -> bool,
+    what: &str,
+) -> Result<f32, SceneError> {
     let v = node.props.get_float(name, default)?;
     if !ok(v) {
         let loc = node.props.location(name).unwrap_or(&node.loc);
-        return Err(SceneError::at(loc, format!("'{name}' of {} must be {what}, got {v}", node.describe())));
+        return Err(SceneError::at(
+            loc,
+            format!("'{name}' of {} must be {what}, got {v}", node.describe()),
+        ));
     }
     Ok(v)
 }
 
 /// An integer that must lie in `lo..=hi`.
-pub fn checked_int(node: &Node, name: &str, default: i64, lo: i64, hi: i64) -> Result<i64, SceneError> {
+pub fn checked_int(
+    node: &Node,
+    name: &str,
+    default: i64,
+    lo: i64,
+    hi: i64,
+) -> Result<i64, SceneError> {
     let v = node.props.get_int(name, default)?;
     if v < lo || v > hi {
         let loc = node.props.location(name).unwrap_or(&node.loc);
-        return Err(SceneError::at(loc, format!("'{name}' of {} must be between {lo} and {hi}, got {v}", node.describe())));
+        return Err(SceneError::at(
+            loc,
+            format!(
+                "'{name}' of {} must be between {lo} and {hi}, got {v}",
+                node.describe()
+            ),
+        ));
     }
     Ok(v)
 }
