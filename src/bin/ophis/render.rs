@@ -1,7 +1,7 @@
-//! The `ophis` command line.
+//! `ophis render`: render a scene to EXR and PNG.
 
 use anyhow::{bail, Context, Result};
-use clap::{Parser, Subcommand};
+use clap::Parser;
 use indicatif::{ProgressBar, ProgressStyle};
 use ophis::film::Film;
 use ophis::image_io::{write_exr, write_png, RgbImage};
@@ -13,23 +13,9 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Duration;
 
-/// ophis — a spectral path tracer for structural colour (thin films, layered materials),
-/// reading Mitsuba 3 and 0.6 XML scenes.
+/// Arguments of `ophis render`.
 #[derive(Parser)]
-#[command(name = "ophis", version, about, long_about = None)]
-struct Cli {
-    #[command(subcommand)]
-    command: Command,
-}
-
-#[derive(Subcommand)]
-enum Command {
-    /// Render a Mitsuba XML scene to EXR (linear sRGB, float32) and PNG (sRGB, 8-bit).
-    Render(RenderArgs),
-}
-
-#[derive(Parser)]
-struct RenderArgs {
+pub struct RenderArgs {
     /// The scene file (Mitsuba XML, version 3.x or 0.6).
     scene: PathBuf,
     /// Output path: `x.exr` or `x.png` writes one file; a name without either extension writes
@@ -58,17 +44,6 @@ struct RenderArgs {
     /// No progress bar.
     #[arg(short, long)]
     quiet: bool,
-}
-
-fn main() {
-    let cli = Cli::parse();
-    let result = match cli.command {
-        Command::Render(args) => cmd_render(args),
-    };
-    if let Err(e) = result {
-        eprintln!("error: {e:#}");
-        std::process::exit(1);
-    }
 }
 
 /// Resolves `-o` into the list of files to write.
@@ -134,7 +109,7 @@ fn parse_defines(defs: &[String]) -> Result<Vec<(String, String)>> {
         .collect()
 }
 
-fn cmd_render(args: RenderArgs) -> Result<()> {
+pub fn run(args: RenderArgs) -> Result<()> {
     let defines = parse_defines(&args.defines)?;
     if let Some(t) = args.time {
         if !(t > 0.0 && t.is_finite()) {

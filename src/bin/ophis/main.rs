@@ -1,0 +1,31 @@
+//! The `ophis` command line: one subcommand per file beside this one.
+
+mod render;
+
+use clap::{Parser, Subcommand};
+
+/// ophis — a spectral path tracer for structural colour (thin films, layered materials),
+/// reading Mitsuba 3 and 0.6 XML scenes.
+#[derive(Parser)]
+#[command(name = "ophis", version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Render a Mitsuba XML scene to EXR (linear sRGB, float32) and PNG (sRGB, 8-bit).
+    Render(render::RenderArgs),
+}
+
+fn main() {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Render(args) => render::run(args),
+    };
+    if let Err(e) = result {
+        eprintln!("error: {e:#}");
+        std::process::exit(1);
+    }
+}
