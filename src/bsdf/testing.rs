@@ -88,7 +88,7 @@ pub fn chi2_test(
             n_delta += 1;
             continue;
         }
-        if !(bs.pdf > 0.0) || !bs.f.is_finite() {
+        if bs.pdf.is_nan() || bs.pdf <= 0.0 || !bs.f.is_finite() {
             return Err(format!(
                 "non-delta sample {:?} with pdf {} f {:?}",
                 bs.wi, bs.pdf, bs.f

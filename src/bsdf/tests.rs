@@ -106,8 +106,21 @@ fn chi2_diffuse_and_plastic() {
     let d = Bxdf::Diffuse(diffuse::DiffuseBxdf::new(s(0.7)));
     for (i, &t) in ANGLES.iter().enumerate() {
         chi2(&d, t, Radiance, 100 + i as u64);
-        // The χ² includes the delta lobe's share as its own category.
-        chi2(&plastic(0.5, false), t, Radiance, 200 + i as u64);
+        // The χ² includes the delta lobe's share as its own category; check it on its own too:
+        // the fraction of delta samples is binomial with mean 1 − ∫pdf (4σ).
+        let o = chi2_test(
+            &plastic(0.5, false),
+            direction(t, 0.4),
+            Radiance,
+            &cfg(200 + i as u64),
+        )
+        .unwrap_or_else(|e| panic!("plastic θo = {t}°: {e}"));
+        let q = 1.0 - o.pdf_integral;
+        let sigma = (q * (1.0 - q) / CHI2_SAMPLES as f64).sqrt();
+        assert!(
+            o.failed_fraction == 0.0 && (o.delta_fraction - q).abs() <= 4.0 * sigma,
+            "{o:?}"
+        );
     }
 }
 
