@@ -139,7 +139,7 @@ impl PlasticBxdf {
         }
         let wi = warp::square_to_cosine_hemisphere(u);
         let pdf = self.pdf(wo, wi, mode, rng);
-        if !(pdf > 0.0) {
+        if pdf.is_nan() || pdf <= 0.0 {
             return None;
         }
         let f = self.f(wo, wi, mode, rng);

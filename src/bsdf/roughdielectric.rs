@@ -65,6 +65,14 @@ fn half_vector(wo: Vec3, wi: Vec3, eta: f32) -> Option<(Vec3, f32, bool)> {
     Some((wm, etap, reflect))
 }
 
+/// Fresnel reflectance of the microfacet for the pair. Mathematically F(wo·wm) = F(wi·wm) for a
+/// refraction pair; evaluating it from the optically thinner side avoids the cancellation in
+/// cos θt near total internal reflection, which keeps f reciprocal to f32 precision.
+fn microfacet_fresnel(wo: Vec3, wi: Vec3, wm: Vec3, eta: f32) -> f32 {
+    let w = if (wo.z > 0.0) == (eta >= 1.0) { wo } else { wi };
+    fresnel_dielectric(w.dot(wm), eta)
+}
+
 impl RoughDielectricBxdf {
     /// A rough interface.
     pub fn new(
@@ -89,7 +97,7 @@ impl RoughDielectricBxdf {
         };
         let d = self.distrib.d(wm);
         let g = self.distrib.g(wo, wi);
-        let fr = fresnel_dielectric(wo.dot(wm), self.eta);
+        let fr = microfacet_fresnel(wo, wi, wm, self.eta);
         if is_reflection {
             return self.r_s * (fr * d * g / (4.0 * wo.z * wi.z).abs());
         }
@@ -104,7 +112,7 @@ impl RoughDielectricBxdf {
         let Some((wm, etap, is_reflection)) = half_vector(wo, wi, self.eta) else {
             return 0.0;
         };
-        let fr = fresnel_dielectric(wo.dot(wm), self.eta);
+        let fr = microfacet_fresnel(wo, wi, wm, self.eta);
         let pm = self.distrib.pdf(wo, wm);
         if is_reflection {
             pm / (4.0 * wo.dot(wm).abs()) * fr
@@ -145,7 +153,7 @@ impl RoughDielectricBxdf {
         }
         // Evaluate from wi so that sampling and evaluation agree.
         let pdf = self.pdf(wo, wi, mode, rng);
-        if !(pdf > 0.0) {
+        if pdf.is_nan() || pdf <= 0.0 {
             return None;
         }
         let f = self.f(wo, wi, mode, rng);
