@@ -213,6 +213,18 @@ impl TriangleMesh {
         intersect_watertight(p0, p1, p2, ray)
     }
 
+    /// [`Self::intersect_triangle`] with the ray's shear precomputed.
+    #[inline]
+    pub fn intersect_triangle_sheared(
+        &self,
+        prim: u32,
+        ray: &Ray,
+        sr: &ShearedRay,
+    ) -> Option<(f32, Vec2)> {
+        let [p0, p1, p2] = self.vertices(prim);
+        intersect_watertight_sheared(p0, p1, p2, ray, sr)
+    }
+
     /// World bounds of the mesh.
     pub fn bounds(&self) -> Bounds3 {
         self.bounds
@@ -333,32 +345,75 @@ fn tangents(p: &[Vec3; 3], uv: &[Vec2; 3], ng: Vec3) -> (Vec3, Vec3) {
 /// The watertight ray–triangle test; returns (t, (b1, b2)) for the barycentrics of p1 and p2.
 #[inline]
 pub fn intersect_watertight(p0: Vec3, p1: Vec3, p2: Vec3, ray: &Ray) -> Option<(f32, Vec2)> {
-    let d = ray.d;
-    // Permute axes so that the dominant direction component is z (keeping handedness).
-    let ad = d.abs();
-    let kz = if ad.x > ad.y {
-        if ad.x > ad.z {
-            0
+    intersect_watertight_sheared(p0, p1, p2, ray, &ShearedRay::new(ray.d)?)
+}
+
+/// The per-ray part of the watertight test (axis permutation and shear), computed once per ray
+/// and shared by every triangle it meets.
+#[derive(Clone, Copy, Debug)]
+pub struct ShearedRay {
+    kx: usize,
+    ky: usize,
+    kz: usize,
+    sx: f32,
+    sy: f32,
+    sz: f32,
+}
+
+impl ShearedRay {
+    /// The shear for direction `d`; `None` for a zero direction.
+    #[inline]
+    pub fn new(d: Vec3) -> Option<ShearedRay> {
+        // Permute axes so that the dominant direction component is z (keeping handedness).
+        let ad = d.abs();
+        let kz = if ad.x > ad.y {
+            if ad.x > ad.z {
+                0
+            } else {
+                2
+            }
+        } else if ad.y > ad.z {
+            1
         } else {
             2
+        };
+        let mut kx = (kz + 1) % 3;
+        let mut ky = (kx + 1) % 3;
+        if d[kz] < 0.0 {
+            std::mem::swap(&mut kx, &mut ky);
         }
-    } else if ad.y > ad.z {
-        1
-    } else {
-        2
-    };
-    let mut kx = (kz + 1) % 3;
-    let mut ky = (kx + 1) % 3;
-    if d[kz] < 0.0 {
-        std::mem::swap(&mut kx, &mut ky);
+        let dz = d[kz];
+        if dz == 0.0 {
+            return None;
+        }
+        Some(ShearedRay {
+            kx,
+            ky,
+            kz,
+            sx: d[kx] / dz,
+            sy: d[ky] / dz,
+            sz: 1.0 / dz,
+        })
     }
-    let dz = d[kz];
-    if dz == 0.0 {
-        return None;
-    }
-    let sx = d[kx] / dz;
-    let sy = d[ky] / dz;
-    let sz = 1.0 / dz;
+}
+
+/// [`intersect_watertight`] with the ray's shear precomputed.
+#[inline]
+pub fn intersect_watertight_sheared(
+    p0: Vec3,
+    p1: Vec3,
+    p2: Vec3,
+    ray: &Ray,
+    sr: &ShearedRay,
+) -> Option<(f32, Vec2)> {
+    let ShearedRay {
+        kx,
+        ky,
+        kz,
+        sx,
+        sy,
+        sz,
+    } = *sr;
     let a = p0 - ray.o;
     let b = p1 - ray.o;
     let c = p2 - ray.o;

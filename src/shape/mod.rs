@@ -120,6 +120,21 @@ impl Shape {
         }
     }
 
+    /// [`Shape::intersect_prim`] with the ray's triangle shear precomputed (BVH traversal).
+    #[inline]
+    pub fn intersect_prim_sheared(
+        &self,
+        prim: u32,
+        ray: &Ray,
+        sr: &mesh::ShearedRay,
+    ) -> Option<(f32, Vec2)> {
+        match self {
+            Shape::Sphere(s) => s.intersect(ray),
+            Shape::Disk(d) => d.intersect(ray),
+            Shape::Mesh(m) => m.intersect_triangle_sheared(prim, ray, sr),
+        }
+    }
+
     /// Full surface geometry for a hit on this shape.
     pub fn interaction(&self, hit: &Hit, ray: &Ray) -> SurfaceInteraction {
         match self {
