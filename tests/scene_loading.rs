@@ -238,3 +238,38 @@ fn unused_parameters_and_unknown_plugins_are_warnings() {
         "{all:?}"
     );
 }
+
+#[test]
+fn envmap_from_exr_and_hdr_loads_and_lights_the_scene() {
+    use ophis::image_io::{write_exr, RgbImage};
+    let dir = temp_dir("envmap");
+    // A 16×8 sky: uniform radiance 0.5 (so a white furnace at albedo 1 renders 0.5 everywhere).
+    let img = RgbImage { width: 16, height: 8, data: vec![[0.5, 0.5, 0.5]; 128] };
+    write_exr(&dir.join("sky.exr"), &img, &[]).unwrap();
+    let scene = dir.join("scene.xml");
+    std::fs::write(
+        &scene,
+        r#"<scene version="3.0.0">
+        <sensor type="perspective"><float name="fov" value="20"/>
+            <transform name="to_world"><lookat origin="0,0,5" target="0,0,0" up="0,1,0"/></transform>
+            <sampler type="independent"><integer name="sample_count" value="16"/></sampler>
+            <film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film></sensor>
+        <emitter type="envmap"><string name="filename" value="sky.exr"/></emitter>
+        <shape type="sphere"><bsdf type="diffuse"><rgb name="reflectance" value="1"/></bsdf></shape>
+        </scene>"#,
+    )
+    .unwrap();
+    let (s, _) = load_scene(&scene, &LoadOptions::default()).expect("loads");
+    assert_eq!(s.infinite_lights.len(), 1);
+    let mut film = ophis::film::Film::new(s.width, s.height);
+    let opts = ophis::render::RenderOptions { spp: 16, time_limit: None, strategy: ophis::integrator::PathStrategy::Mis };
+    ophis::render::render(&s, &mut film, 0, &opts, &std::sync::atomic::AtomicBool::new(false), &ophis::render::NoProgress);
+    let rgb = film.to_linear_srgb();
+    // The map's texels are linear sRGB 0.5 grey, a D65 emission of luminance 0.5, and the white
+    // sphere vanishes into it (furnace): every pixel estimates 0.5. Mean within 4 standard errors.
+    let v: Vec<f64> = rgb.iter().map(|p| p[1] as f64).collect();
+    let n = v.len() as f64;
+    let mean = v.iter().sum::<f64>() / n;
+    let se = (v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0) / n).sqrt();
+    assert!((mean - 0.5).abs() <= 4.0 * se + 1e-5, "mean {mean} ± {se}");
+}
