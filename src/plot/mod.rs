@@ -1,0 +1,7 @@
+//! Small raster plotting for PNG figures, with no external crates: a [`Canvas`] with lines, text
+//! and images, a built-in bitmap font, and charts (line, polar lobe, colour map, contact sheet).
+
+pub mod canvas;
+pub mod font;
+
+pub use canvas::Canvas;
