@@ -5,3 +5,10 @@ pub mod canvas;
 pub mod font;
 
 pub use canvas::Canvas;
+pub mod chart;
+pub mod polar;
+pub mod sheet;
+
+pub use chart::{color_map, heat, nice_ticks, LineChart, PlotArea, Series, PALETTE};
+pub use polar::PolarChart;
+pub use sheet::contact_sheet;
