@@ -8,6 +8,7 @@ pub use canvas::Canvas;
 pub mod chart;
 pub mod polar;
 pub mod sheet;
+pub mod ticks;
 
 pub use chart::{color_map, heat, nice_ticks, LineChart, PlotArea, Series, PALETTE};
 pub use polar::PolarChart;

@@ -134,6 +134,8 @@ mod tests {
         assert_eq!(at(0, 2), blue);
         assert_eq!(at(1, 1), blue);
         assert_eq!(at(0, 1), MISSING);
+        c.save_png(std::env::temp_dir().join("ophis_plot_sheet.png"))
+            .unwrap();
         assert_eq!(
             at(1, 2),
             MISSING,
