@@ -1,6 +1,10 @@
 //! ophis — a spectral path tracer for structural colour: thin-film iridescence and layered
 //! materials, reading Mitsuba XML scenes.
 
+// `!(x > 0.0)` is used on purpose throughout: unlike `x <= 0.0` it also rejects NaN, which is
+// what input validation and sample guards need.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 /// Bounding volume hierarchy over all scene primitives, plus a brute-force oracle.
 pub mod accel;
 /// Scattering functions (BSDFs) and materials.

@@ -51,6 +51,8 @@ fn classify(x: usize, y: usize, n: usize) -> Option<bool> {
     }
 }
 
+// Channels index both the pixel and the expected value; a range loop reads best here.
+#[allow(clippy::needless_range_loop)]
 fn check(albedo: f32, max_depth: i32, strategy: PathStrategy) {
     let sc = scene(&furnace_xml(albedo, max_depth));
     let img = render_rgb(&sc, 64, strategy);

@@ -194,8 +194,7 @@ fn missing_mesh_file_is_an_error_naming_the_file() {
     let scene = dir.join("scene.xml");
     std::fs::write(&scene, "<scene version=\"3.0.0\">\n<shape type=\"obj\">\n  <string name=\"filename\" value=\"nothere.obj\"/>\n</shape>\n</scene>").unwrap();
     let e = load_scene(&scene, &LoadOptions::default())
-        .err()
-        .expect("error")
+        .expect_err("error")
         .to_string();
     assert!(
         e.contains("nothere.obj") && e.contains("scene.xml:3:"),
@@ -205,8 +204,7 @@ fn missing_mesh_file_is_an_error_naming_the_file() {
     std::fs::create_dir_all(dir.join("adir.ply")).unwrap();
     std::fs::write(&scene, "<scene version=\"3.0.0\">\n<shape type=\"ply\">\n  <string name=\"filename\" value=\"adir.ply\"/>\n</shape>\n</scene>").unwrap();
     let e = load_scene(&scene, &LoadOptions::default())
-        .err()
-        .expect("error")
+        .expect_err("error")
         .to_string();
     assert!(e.contains("adir.ply") && e.contains("directory"), "{e}");
 }
@@ -240,12 +238,16 @@ fn unused_parameters_and_unknown_plugins_are_warnings() {
 }
 
 #[test]
-fn envmap_from_exr_and_hdr_loads_and_lights_the_scene() {
+fn envmap_from_exr_loads_and_lights_the_scene() {
     use ophis::image_io::{write_exr, RgbImage};
     let dir = temp_dir("envmap");
     // A 16×8 sky: uniform radiance 0.5 (so a white furnace at albedo 1 renders 0.5 everywhere).
-    let img = RgbImage { width: 16, height: 8, data: vec![[0.5, 0.5, 0.5]; 128] };
-    write_exr(&dir.join("sky.exr"), &img, &[]).unwrap();
+    let img = RgbImage {
+        width: 16,
+        height: 8,
+        data: vec![[0.5, 0.5, 0.5]; 128],
+    };
+    write_exr(dir.join("sky.exr"), &img, &[]).unwrap();
     let scene = dir.join("scene.xml");
     std::fs::write(
         &scene,
@@ -262,8 +264,19 @@ fn envmap_from_exr_and_hdr_loads_and_lights_the_scene() {
     let (s, _) = load_scene(&scene, &LoadOptions::default()).expect("loads");
     assert_eq!(s.infinite_lights.len(), 1);
     let mut film = ophis::film::Film::new(s.width, s.height);
-    let opts = ophis::render::RenderOptions { spp: 16, time_limit: None, strategy: ophis::integrator::PathStrategy::Mis };
-    ophis::render::render(&s, &mut film, 0, &opts, &std::sync::atomic::AtomicBool::new(false), &ophis::render::NoProgress);
+    let opts = ophis::render::RenderOptions {
+        spp: 16,
+        time_limit: None,
+        strategy: ophis::integrator::PathStrategy::Mis,
+    };
+    ophis::render::render(
+        &s,
+        &mut film,
+        0,
+        &opts,
+        &std::sync::atomic::AtomicBool::new(false),
+        &ophis::render::NoProgress,
+    );
     let rgb = film.to_linear_srgb();
     // The map's texels are linear sRGB 0.5 grey, a D65 emission of luminance 0.5, and the white
     // sphere vanishes into it (furnace): every pixel estimates 0.5. Mean within 4 standard errors.
