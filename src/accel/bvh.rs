@@ -11,6 +11,7 @@
 //! nodes whose entry distance is beyond the closest hit so far. No allocation per ray.
 use super::Accel;
 use crate::math::{Bounds3, Ray, Vec3};
+use crate::shape::mesh::intersect_watertight_sheared;
 use crate::shape::{Hit, Shape};
 use glam::Vec3A;
 
@@ -58,6 +59,10 @@ pub struct Bvh {
     nodes: Vec<Node>,
     /// (shape, primitive) pairs in leaf order.
     prims: Vec<(u32, u32)>,
+    /// For triangle primitives, a copy of their world-space vertices in leaf order, so that leaf
+    /// tests read contiguous memory instead of chasing mesh indices (`None` for analytic
+    /// primitives). Costs 36 bytes per triangle.
+    tris: Vec<Option<[Vec3; 3]>>,
     depth: usize,
 }
 
@@ -97,9 +102,18 @@ impl Bvh {
         let mut nodes = Vec::with_capacity(2 * refs.len() / MAX_LEAF.max(1) + 1);
         nodes.push(placeholder());
         flatten(&root, 0, &mut nodes);
+        let prims: Vec<(u32, u32)> = refs.iter().map(|r| r.id).collect();
+        let tris = prims
+            .iter()
+            .map(|&(s, p)| match &shapes[s as usize] {
+                Shape::Mesh(m) => Some(m.vertices(p)),
+                _ => None,
+            })
+            .collect();
         Bvh {
             nodes,
-            prims: refs.iter().map(|r| r.id).collect(),
+            prims,
+            tris,
             depth,
         }
     }
@@ -145,8 +159,13 @@ impl Bvh {
             let n = &self.nodes[node];
             if n.count > 0 {
                 let start = n.offset as usize;
-                for &(s, p) in &self.prims[start..start + n.count as usize] {
-                    if let Some((t, uv)) = shapes[s as usize].intersect_prim_sheared(p, &r, &sr) {
+                let end = start + n.count as usize;
+                for (&(s, p), tri) in self.prims[start..end].iter().zip(&self.tris[start..end]) {
+                    let hit = match tri {
+                        Some([a, b, c]) => intersect_watertight_sheared(*a, *b, *c, &r, &sr),
+                        None => shapes[s as usize].intersect_prim_sheared(p, &r, &sr),
+                    };
+                    if let Some((t, uv)) = hit {
                         r.t_max = t;
                         best = Some(Hit {
                             t,

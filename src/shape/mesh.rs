@@ -192,8 +192,9 @@ impl TriangleMesh {
         self.indices.len()
     }
 
+    /// World-space corners of triangle `prim`.
     #[inline]
-    fn vertices(&self, prim: u32) -> [Vec3; 3] {
+    pub fn vertices(&self, prim: u32) -> [Vec3; 3] {
         self.indices[prim as usize].map(|k| self.positions[k as usize])
     }
 
