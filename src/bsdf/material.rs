@@ -7,8 +7,8 @@
 
 use super::conductor::ConductorBxdf;
 use super::dielectric::DielectricBxdf;
-use super::filmmaterial::FilmMaterial;
 use super::diffuse::DiffuseBxdf;
+use super::filmmaterial::FilmMaterial;
 use super::fresnel::{fresnel_diffuse_reflectance, ConductorFresnel};
 use super::microfacet::{MicrofacetDistribution, MicrofacetType};
 use super::plastic::PlasticBxdf;

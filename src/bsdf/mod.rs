@@ -25,9 +25,9 @@ pub mod testing;
 mod tests;
 pub mod thindielectric;
 pub mod thinfilm;
-pub mod thinfilmconductor;
 #[cfg(test)]
 mod thinfilm_tests;
+pub mod thinfilmconductor;
 
 pub use material::Material;
 

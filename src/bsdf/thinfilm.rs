@@ -50,7 +50,12 @@ pub struct ThinFilmBxdf {
 impl ThinFilmBxdf {
     /// A smooth coated interface.
     pub fn new(film: FilmFresnel, eta: f32, r_s: SampledSpectrum, t_s: SampledSpectrum) -> Self {
-        ThinFilmBxdf { film, eta, r_s, t_s }
+        ThinFilmBxdf {
+            film,
+            eta,
+            r_s,
+            t_s,
+        }
     }
     pub fn flags(&self) -> BxdfFlags {
         BxdfFlags::SPECULAR_REFLECTION | BxdfFlags::SPECULAR_TRANSMISSION
@@ -66,7 +71,11 @@ impl ThinFilmBxdf {
     /// of reflection: (reflection weight, refraction weight, P). For tests and tools.
     pub fn lobe_weights(&self, wo_z: f32) -> (SampledSpectrum, SampledSpectrum, f32) {
         let (r, p) = self.film.eval(wo_z);
-        let wr = if p > 0.0 { r / p } else { SampledSpectrum::ZERO };
+        let wr = if p > 0.0 {
+            r / p
+        } else {
+            SampledSpectrum::ZERO
+        };
         let wt = if p < 1.0 {
             (SampledSpectrum::ONE - r) / (1.0 - p)
         } else {

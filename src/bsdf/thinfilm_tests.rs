@@ -46,9 +46,9 @@ impl Stack {
             film_ior: self.film,
             thickness: FloatTexture::Constant(self.d),
             mode: self.mode,
-            rough: self.rough.map(|(k, a)| {
-                (k, FloatTexture::Constant(a), FloatTexture::Constant(a))
-            }),
+            rough: self
+                .rough
+                .map(|(k, a)| (k, FloatTexture::Constant(a), FloatTexture::Constant(a))),
             specular_reflectance: one(),
             specular_transmittance: one(),
         };
@@ -105,7 +105,10 @@ fn fringe_peaks_zeros_and_peak_value() {
     let peak = 4.0 * r2 / (1.0 + r2).powi(2);
     let b = Stack::bubble().bxdf([2808.0 / 4.5, 2808.0 / 5.5, 2808.0 / 5.0, 2808.0 / 6.0]);
     let r = reflectance_via_sampling(&b, Vec3::Z);
-    assert!(close(r[0], peak, 1e-6) && close(r[1], peak, 1e-6), "{r:?} vs {peak}");
+    assert!(
+        close(r[0], peak, 1e-6) && close(r[1], peak, 1e-6),
+        "{r:?} vs {peak}"
+    );
     assert!(r[2] < 1e-6 && r[3] < 1e-6, "{r:?}");
     assert!((peak - 0.174324).abs() < 1e-6);
 }
@@ -138,7 +141,10 @@ fn brewster_quarter_wave_and_zero_thickness() {
         let wo = direction(th, 1.0);
         let r = reflectance_via_sampling(&b, wo);
         let want = fresnel_dielectric(wo.z, 1.5) as f64;
-        assert!(r.iter().all(|&x| close(x, want, 1e-5)), "{th}: {r:?} vs {want}");
+        assert!(
+            r.iter().all(|&x| close(x, want, 1e-5)),
+            "{th}: {r:?} vs {want}"
+        );
     }
 }
 
@@ -149,7 +155,10 @@ fn denser_base_metal_base_and_the_thesis_phase_term() {
         ..Stack::bubble()
     };
     let r = reflectance_via_sampling(&dense.bxdf([500.0, 600.0, 475.0, 475.0]), Vec3::Z);
-    assert!(close(r[0], 0.030343, 2e-6) && close(r[1], 0.040173, 2e-6), "{r:?}");
+    assert!(
+        close(r[0], 0.030343, 2e-6) && close(r[1], 0.040173, 2e-6),
+        "{r:?}"
+    );
     assert!(close(r[2], 0.0774, 1e-4), "{r:?}");
     // The thesis's formula double-counts π here (research §6: 0.0271 instead of 0.0774) ...
     let t = thesis_reflectance(1.0, 1.0, 1.56, 900.0, 1.8, 475.0);
@@ -334,7 +343,10 @@ fn rough_films_sample_what_they_evaluate_and_lose_no_more_than_single_scattering
             let a = albedo(&b, wo, m, 40_000, 11, false);
             let h = hemispherical_integral(&b, wo, m, 200_000, 12);
             for i in 0..N {
-                assert!(a[i].agrees_with(&h[i], 4.0), "{mode:?} {th}: {a:?} vs {h:?}");
+                assert!(
+                    a[i].agrees_with(&h[i], 4.0),
+                    "{mode:?} {th}: {a:?} vs {h:?}"
+                );
                 assert!(a[i].at_most(1.0, 4.0), "{a:?}");
             }
         }
@@ -347,8 +359,18 @@ fn rough_films_sample_what_they_evaluate_and_lose_no_more_than_single_scattering
         FilmMode::Spectral,
     )
     .bxdf(WL);
-    let a = albedo(&b, direction(30.0, 0.0), TransportMode::Importance, 20_000, 5, false);
-    assert!(a.iter().all(|e| e.mean > 0.97 && e.at_most(1.0, 4.0)), "{a:?}");
+    let a = albedo(
+        &b,
+        direction(30.0, 0.0),
+        TransportMode::Importance,
+        20_000,
+        5,
+        false,
+    );
+    assert!(
+        a.iter().all(|e| e.mean > 0.97 && e.at_most(1.0, 4.0)),
+        "{a:?}"
+    );
 }
 
 #[test]

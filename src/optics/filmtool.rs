@@ -53,7 +53,14 @@ impl FilmStack {
     /// Colour chart: `width` thicknesses over `[d0, d1]` (left to right) × `height` angles over
     /// 0–90° (bottom to top), rows top first, each pixel sampled at its centre; `step_nm` is the
     /// spectral integration step.
-    pub fn chart(&self, d0: f64, d1: f64, width: usize, height: usize, step_nm: usize) -> Vec<[f32; 3]> {
+    pub fn chart(
+        &self,
+        d0: f64,
+        d1: f64,
+        width: usize,
+        height: usize,
+        step_nm: usize,
+    ) -> Vec<[f32; 3]> {
         let mut out = vec![[0.0f32; 3]; width * height];
         for (row, line) in out.chunks_mut(width).enumerate() {
             let a = 90.0 * (height - row) as f64 - 45.0;
@@ -113,7 +120,9 @@ pub fn parse_range(what: &str, s: &str) -> Result<Vec<f64>, String> {
             }
             Ok((0..n).map(|i| a + i as f64 * st).collect())
         }
-        _ => Err(format!("{what}: expected START:END:STEP or a number, got '{s}'")),
+        _ => Err(format!(
+            "{what}: expected START:END:STEP or a number, got '{s}'"
+        )),
     }
 }
 
@@ -172,7 +181,9 @@ pub fn check_grid(angles: &[f64], wavelengths: &[f64]) -> Result<(), String> {
         return Err(format!("--angles: {a} is outside 0–90 degrees"));
     }
     if let Some(l) = wavelengths.iter().find(|l| !(**l > 0.0)) {
-        return Err(format!("--wavelengths: {l} nm is not a positive wavelength"));
+        return Err(format!(
+            "--wavelengths: {l} nm is not a positive wavelength"
+        ));
     }
     Ok(())
 }
@@ -231,28 +242,47 @@ mod tests {
         let lines: Vec<&str> = t.lines().collect();
         assert_eq!(lines[0], "wavelength_nm,angle_deg,R_s,R_p,R,T");
         assert_eq!(lines.len(), 5);
-        let row = |i: usize| -> Vec<f64> {
-            lines[i].split(',').map(|v| v.parse().unwrap()).collect()
-        };
+        let row =
+            |i: usize| -> Vec<f64> { lines[i].split(',').map(|v| v.parse().unwrap()).collect() };
         let r0 = row(1);
         assert_eq!((r0[0], r0[1]), (510.0, 0.0));
         assert!((r0[4] - 0.174275).abs() < 1e-6 && (r0[4] + r0[5] - 1.0).abs() < 1e-7);
         let r = row(4);
-        assert!((r[2] - 0.341236).abs() < 1e-6 && (r[3] - 0.043006).abs() < 1e-6, "{r:?}");
+        assert!(
+            (r[2] - 0.341236).abs() < 1e-6 && (r[3] - 0.043006).abs() < 1e-6,
+            "{r:?}"
+        );
     }
 
     #[test]
     fn argument_errors_name_the_argument() {
-        assert_eq!(parse_range("--wavelengths", "400:700:100").unwrap().len(), 4);
-        for bad in ["400:700:0", "400:700:-5", "700:400:5", "400:nan:5", "a", "1:2"] {
+        assert_eq!(
+            parse_range("--wavelengths", "400:700:100").unwrap().len(),
+            4
+        );
+        for bad in [
+            "400:700:0",
+            "400:700:-5",
+            "700:400:5",
+            "400:nan:5",
+            "a",
+            "1:2",
+        ] {
             let e = parse_range("--wavelengths", bad).unwrap_err();
             assert!(e.starts_with("--wavelengths"), "{e}");
         }
         assert!(parse_interval("--thickness-range", "100:50").is_err());
-        assert!(parse_ior("--ext-ior", "-1").unwrap_err().contains("positive"));
+        assert!(parse_ior("--ext-ior", "-1")
+            .unwrap_err()
+            .contains("positive"));
         assert!(parse_ior("--ext-ior", "unobtainium").is_err());
-        assert_eq!(parse_film_ior("--film-ior", "keratin"), Ok(FilmIor::Keratin));
-        assert!(check_grid(&[95.0], &[500.0]).unwrap_err().starts_with("--angles"));
+        assert_eq!(
+            parse_film_ior("--film-ior", "keratin"),
+            Ok(FilmIor::Keratin)
+        );
+        assert!(check_grid(&[95.0], &[500.0])
+            .unwrap_err()
+            .starts_with("--angles"));
         assert!(parse_list("--angles", "0,x").is_err());
     }
 

@@ -160,7 +160,9 @@ fn ior_or(node: &Node, name: &str, default: f32) -> Result<f32, SceneError> {
 }
 
 /// `distribution` and `alpha` / `alpha_u` + `alpha_v` (floats or textures).
-pub(super) fn roughness(node: &Node) -> Result<(MicrofacetType, FloatTexture, FloatTexture), SceneError> {
+pub(super) fn roughness(
+    node: &Node,
+) -> Result<(MicrofacetType, FloatTexture, FloatTexture), SceneError> {
     let name = node.props.get_string("distribution", "beckmann")?;
     let dist = MicrofacetType::from_name(&name).ok_or_else(|| {
         SceneError::at(
@@ -254,7 +256,11 @@ fn texture(tex: &Node, kind: SpectrumKind) -> Result<SpectrumTexture, SceneError
 }
 
 /// A scalar parameter given as a float or as a nested texture.
-pub(super) fn float_texture(node: &Node, name: &str, default: f32) -> Result<FloatTexture, SceneError> {
+pub(super) fn float_texture(
+    node: &Node,
+    name: &str,
+    default: f32,
+) -> Result<FloatTexture, SceneError> {
     if let Some(tex) = node.child(name).filter(|c| c.tag == Tag::Texture) {
         return match tex.plugin.as_str() {
             "checkerboard" => {

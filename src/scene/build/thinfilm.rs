@@ -135,9 +135,8 @@ pub(crate) fn film_material(node: &Node) -> Result<Material, SceneError> {
             int_ior: ior(node, "int_ior", if seed { "diamond" } else { "bk7" })?,
         }
     };
-    let one = |name: &str| {
-        spectrum_texture(node, name, SpectrumKind::Albedo, Spectrum::Constant(1.0))
-    };
+    let one =
+        |name: &str| spectrum_texture(node, name, SpectrumKind::Albedo, Spectrum::Constant(1.0));
     Ok(Material::ThinFilm(Box::new(FilmMaterial {
         base,
         ext_ior: ior(node, "ext_ior", "air")?,
