@@ -219,3 +219,44 @@ fn spectral_and_thesis_bubbles_differ_as_predicted() {
     }
     assert!(strong >= 2, "the two modes should differ clearly: {pred:?}");
 }
+
+#[test]
+fn thinfilm_command_prints_the_table_and_rejects_bad_arguments() {
+    let run = |args: &[&str]| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_ophis"))
+            .arg("thinfilm")
+            .args(args)
+            .output()
+            .expect("runs")
+    };
+    let out = run(&["--angles", "0,45", "--wavelengths", "510:550:40"]);
+    assert!(out.status.success());
+    let text = String::from_utf8(out.stdout).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines[0], "wavelength_nm,angle_deg,R_s,R_p,R,T");
+    assert_eq!(lines.len(), 5);
+    // Normal incidence, 510 nm: the fringe peak R = 0.174275 (research §8 T2), T = 1 − R.
+    let v: Vec<f64> = lines[1].split(',').map(|x| x.parse().unwrap()).collect();
+    assert!((v[4] - 0.174275).abs() < 1e-6 && (v[4] + v[5] - 1.0).abs() < 1e-7);
+    // 45°, 550 nm: R_s = 0.341236, R_p = 0.043006 (T3).
+    let v: Vec<f64> = lines[4].split(',').map(|x| x.parse().unwrap()).collect();
+    assert!((v[2] - 0.341236).abs() < 1e-6 && (v[3] - 0.043006).abs() < 1e-6);
+    for (args, what) in [
+        (&["--wavelengths", "400:700:0"][..], "--wavelengths"),
+        (&["--thickness", "-3"][..], "--thickness"),
+        (&["--thickness", "nan"][..], "--thickness"),
+        (&["--angles", "0,120"][..], "--angles"),
+        (&["--film-ior", "-1.2"][..], "--film-ior"),
+        (
+            &["--chart", "x.png", "--thickness-range", "900:100"][..],
+            "--thickness-range",
+        ),
+    ] {
+        let out = run(args);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            !out.status.success() && err.contains(what),
+            "{args:?}: {err}"
+        );
+    }
+}

@@ -126,7 +126,7 @@ impl RoughThinFilmBxdf {
         }
         // Evaluate from wi so that sampling and evaluation agree.
         let pdf = self.pdf(wo, wi, mode, rng);
-        if !(pdf > 0.0) {
+        if pdf.is_nan() || pdf <= 0.0 {
             return None;
         }
         let f = self.f(wo, wi, mode, rng);

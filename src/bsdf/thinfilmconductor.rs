@@ -60,7 +60,7 @@ impl ThinFilmConductorBxdf {
         _mode: TransportMode,
         _rng: &mut Pcg32,
     ) -> Option<BsdfSample> {
-        if !(wo.z > 0.0) {
+        if wo.z.is_nan() || wo.z <= 0.0 {
             return None;
         }
         let wi = Vec3::new(-wo.x, -wo.y, wo.z);
@@ -114,7 +114,7 @@ impl RoughThinFilmConductorBxdf {
         mode: TransportMode,
         rng: &mut Pcg32,
     ) -> Option<BsdfSample> {
-        if !(wo.z > 0.0) {
+        if wo.z.is_nan() || wo.z <= 0.0 {
             return None;
         }
         let wm = self.distrib.sample_wm(wo, u);
@@ -123,7 +123,7 @@ impl RoughThinFilmConductorBxdf {
             return None;
         }
         let pdf = self.pdf(wo, wi, mode, rng);
-        if !(pdf > 0.0) {
+        if pdf.is_nan() || pdf <= 0.0 {
             return None;
         }
         let f = self.f(wo, wi, mode, rng);

@@ -108,7 +108,7 @@ pub fn parse_range(what: &str, s: &str) -> Result<Vec<f64>, String> {
         [v] => Ok(vec![num(v)?]),
         [a, b, st] => {
             let (a, b, st) = (num(a)?, num(b)?, num(st)?);
-            if !(st > 0.0) {
+            if st.is_nan() || st <= 0.0 {
                 return Err(format!("{what}: the step must be positive, got {st}"));
             }
             if b < a {
@@ -180,7 +180,7 @@ pub fn check_grid(angles: &[f64], wavelengths: &[f64]) -> Result<(), String> {
     if let Some(a) = angles.iter().find(|a| !(0.0..=90.0).contains(*a)) {
         return Err(format!("--angles: {a} is outside 0–90 degrees"));
     }
-    if let Some(l) = wavelengths.iter().find(|l| !(**l > 0.0)) {
+    if let Some(l) = wavelengths.iter().find(|l| l.is_nan() || **l <= 0.0) {
         return Err(format!(
             "--wavelengths: {l} nm is not a positive wavelength"
         ));

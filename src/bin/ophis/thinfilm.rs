@@ -12,16 +12,16 @@ use std::path::PathBuf;
 #[derive(Parser)]
 pub struct ThinFilmArgs {
     /// Film index: a number, `keratin` (1.532 + 5890/λ²) or a named dielectric (`water`, …).
-    #[arg(long, default_value = "1.56")]
+    #[arg(long, default_value = "1.56", allow_negative_numbers = true)]
     film_ior: String,
     /// Film thickness in nm.
     #[arg(long, default_value = "900", allow_negative_numbers = true)]
     thickness: String,
     /// Index of the medium the light comes from (number or name).
-    #[arg(long, default_value = "1.0")]
+    #[arg(long, default_value = "1.0", allow_negative_numbers = true)]
     ext_ior: String,
     /// Index of the dielectric under the film (number or name).
-    #[arg(long, conflicts_with_all = ["int_eta", "int_k"])]
+    #[arg(long, conflicts_with_all = ["int_eta", "int_k"], allow_negative_numbers = true)]
     int_ior: Option<String>,
     /// Real part n of a metal base's complex index n + ik (with --int-k).
     #[arg(long, requires = "int_k", allow_negative_numbers = true)]
