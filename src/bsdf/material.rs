@@ -8,6 +8,7 @@
 use super::conductor::ConductorBxdf;
 use super::dielectric::DielectricBxdf;
 use super::diffuse::DiffuseBxdf;
+use super::filmmaterial::FilmMaterial;
 use super::fresnel::{fresnel_diffuse_reflectance, ConductorFresnel};
 use super::microfacet::{MicrofacetDistribution, MicrofacetType};
 use super::plastic::PlasticBxdf;
@@ -101,6 +102,9 @@ pub enum Material {
         front: Box<Material>,
         back: Option<Box<Material>>,
     },
+    /// `thinfilm`, `roughthinfilm`, `thinfilmconductor`, `roughthinfilmconductor` (and the
+    /// seed's aliases).
+    ThinFilm(Box<FilmMaterial>),
     /// `null` (for now: black; an index-matched pass-through would be `ThinDielectric` with
     /// η = 1).
     Null,
@@ -328,6 +332,7 @@ impl Material {
                 };
                 return (m.eval(tc, wl, true).0, true);
             }
+            Material::ThinFilm(m) => m.eval(tc, wl),
             Material::Null => Bxdf::Black,
         };
         (bxdf, false)
@@ -339,6 +344,7 @@ impl Material {
             Material::Dielectric { .. }
             | Material::ThinDielectric { .. }
             | Material::Conductor { .. } => true,
+            Material::ThinFilm(m) => m.has_delta_only(),
             Material::TwoSided { front, back } => {
                 front.has_delta_only() && back.as_ref().is_none_or(|b| b.has_delta_only())
             }
@@ -353,6 +359,7 @@ impl Material {
             | Material::ThinDielectric { .. }
             | Material::RoughDielectric { .. }
             | Material::Null => true,
+            Material::ThinFilm(m) => m.has_transmission(),
             Material::TwoSided { front, back } => {
                 front.has_transmission() || back.as_ref().is_some_and(|b| b.has_transmission())
             }

@@ -10,6 +10,8 @@
 pub mod conductor;
 pub mod dielectric;
 pub mod diffuse;
+pub mod filmfresnel;
+pub mod filmmaterial;
 pub mod fresnel;
 pub mod material;
 pub mod microfacet;
@@ -17,10 +19,15 @@ pub mod plastic;
 pub mod roughconductor;
 pub mod roughdielectric;
 pub mod roughplastic;
+pub mod roughthinfilm;
 pub mod testing;
 #[cfg(test)]
 mod tests;
 pub mod thindielectric;
+pub mod thinfilm;
+#[cfg(test)]
+mod thinfilm_tests;
+pub mod thinfilmconductor;
 
 pub use material::Material;
 
@@ -136,6 +143,10 @@ pub enum Bxdf {
     RoughConductor(roughconductor::RoughConductorBxdf),
     Plastic(plastic::PlasticBxdf),
     RoughPlastic(roughplastic::RoughPlasticBxdf),
+    ThinFilm(thinfilm::ThinFilmBxdf),
+    RoughThinFilm(roughthinfilm::RoughThinFilmBxdf),
+    ThinFilmConductor(thinfilmconductor::ThinFilmConductorBxdf),
+    RoughThinFilmConductor(thinfilmconductor::RoughThinFilmConductorBxdf),
     /// Absorbs everything (e.g. the back of a one-sided surface, or `null`).
     Black,
 }
@@ -151,6 +162,10 @@ macro_rules! dispatch {
             Bxdf::RoughConductor($b) => $e,
             Bxdf::Plastic($b) => $e,
             Bxdf::RoughPlastic($b) => $e,
+            Bxdf::ThinFilm($b) => $e,
+            Bxdf::RoughThinFilm($b) => $e,
+            Bxdf::ThinFilmConductor($b) => $e,
+            Bxdf::RoughThinFilmConductor($b) => $e,
             Bxdf::Black => $black,
         }
     };

@@ -38,7 +38,7 @@ pub struct RoughDielectricBxdf {
 
 /// The microfacet normal joining a pair of directions, with the index ratio, or `None` for
 /// degenerate pairs and back-facing microfacets.
-fn half_vector(wo: Vec3, wi: Vec3, eta: f32) -> Option<(Vec3, f32, bool)> {
+pub(super) fn half_vector(wo: Vec3, wi: Vec3, eta: f32) -> Option<(Vec3, f32, bool)> {
     if wo.z == 0.0 || wi.z == 0.0 {
         return None;
     }

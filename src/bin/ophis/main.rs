@@ -1,6 +1,8 @@
 //! The `ophis` command line: one subcommand per file beside this one.
 
 mod render;
+mod thinfilm;
+mod thinfilm_plot;
 
 use clap::{Parser, Subcommand};
 
@@ -17,12 +19,15 @@ struct Cli {
 enum Command {
     /// Render a Mitsuba XML scene to EXR (linear sRGB, float32) and PNG (sRGB, 8-bit).
     Render(render::RenderArgs),
+    /// Reflectance of a thin film against wavelength and angle: CSV, colours, plots.
+    Thinfilm(thinfilm::ThinFilmArgs),
 }
 
 fn main() {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Render(args) => render::run(args),
+        Command::Thinfilm(args) => thinfilm::run(args),
     };
     if let Err(e) = result {
         eprintln!("error: {e:#}");

@@ -1,6 +1,6 @@
 //! BSDFs: Mitsuba's `diffuse`, `dielectric`, `thindielectric`, `roughdielectric`, `conductor`,
 //! `roughconductor`, `plastic`, `roughplastic`, `twosided`, `null`, with colours given as values
-//! or as nested/referenced `checkerboard` textures.
+//! or as nested/referenced `checkerboard` textures. The thin-film BSDFs are in `thinfilm.rs`.
 
 use super::values::{checked_float, ior, spectrum, spectrum_opt, SpectrumKind};
 use super::Builder;
@@ -137,6 +137,7 @@ fn build_material(node: &Node, warnings: &mut Vec<Warning>) -> Result<Material, 
             }
         }
         "null" => Material::Null,
+        film if super::thinfilm::is_film_plugin(film) => super::thinfilm::film_material(node)?,
         other => {
             warnings.push(Warning {
                 loc: node.loc.clone(),
@@ -159,7 +160,9 @@ fn ior_or(node: &Node, name: &str, default: f32) -> Result<f32, SceneError> {
 }
 
 /// `distribution` and `alpha` / `alpha_u` + `alpha_v` (floats or textures).
-fn roughness(node: &Node) -> Result<(MicrofacetType, FloatTexture, FloatTexture), SceneError> {
+pub(super) fn roughness(
+    node: &Node,
+) -> Result<(MicrofacetType, FloatTexture, FloatTexture), SceneError> {
     let name = node.props.get_string("distribution", "beckmann")?;
     let dist = MicrofacetType::from_name(&name).ok_or_else(|| {
         SceneError::at(
@@ -253,7 +256,11 @@ fn texture(tex: &Node, kind: SpectrumKind) -> Result<SpectrumTexture, SceneError
 }
 
 /// A scalar parameter given as a float or as a nested texture.
-fn float_texture(node: &Node, name: &str, default: f32) -> Result<FloatTexture, SceneError> {
+pub(super) fn float_texture(
+    node: &Node,
+    name: &str,
+    default: f32,
+) -> Result<FloatTexture, SceneError> {
     if let Some(tex) = node.child(name).filter(|c| c.tag == Tag::Texture) {
         return match tex.plugin.as_str() {
             "checkerboard" => {

@@ -4,6 +4,7 @@
 mod emitters;
 mod materials;
 mod shapes;
+mod thinfilm;
 pub mod values;
 
 use super::mitsuba::{self, Node, SceneError, Tag, Warning};
