@@ -82,6 +82,9 @@ pub fn film_rt(cos_theta0: f64, n0: f64, n1: C, d_nm: f64, n2: C, lambda_nm: f64
     let ts = |ni: C, ci: C, nj: C, cj: C| (C::new(2.0, 0.0) * ni * ci) / (ni * ci + nj * cj);
     let tp = |ni: C, ci: C, nj: C, cj: C| (C::new(2.0, 0.0) * ni * ci) / (nj * ci + ni * cj);
 
+    // A film of zero thickness is no film: use the bare n0|n2 interface. (The Airy sum gives
+    // the same value except exactly at grazing incidence, where it becomes 0/0.)
+    let (n1, c1, d_nm) = if d_nm == 0.0 { (n2, c2, 0.0) } else { (n1, c1, d_nm) };
     let delta = C::new(2.0 * std::f64::consts::PI * d_nm / lambda_nm, 0.0) * n1 * c1;
     let e1 = (C::i() * delta).exp();
     let e2 = e1 * e1;
@@ -255,6 +258,13 @@ mod tests {
         // d = 0: the bare n0|n2 interface.
         assert!((r(1.0, 1.0, 1.56, 0.0, 1.5, 500.0) - 0.04).abs() < 1e-12);
         assert!(r(0.3, 1.0, 1.56, 0.0, 1.0, 500.0) < 1e-14);
+        // …also at (numerically) grazing incidence, where the Airy sum alone would be 0/0: with
+        // n0 = n2 there is no interface at all (R = 0), with n2 ≠ n0 grazing light reflects.
+        let grazing = 90f64.to_radians().cos();
+        let g = film_rt(grazing, 1.0, C::new(1.56, 0.0), 0.0, C::new(1.0, 0.0), 500.0);
+        assert!(g.r() < 1e-9, "{g:?}");
+        let g = film_rt(grazing, 1.0, C::new(1.56, 0.0), 0.0, C::new(1.5, 0.0), 500.0);
+        assert!(g.r() > 0.999, "{g:?}");
     }
 
     #[test]
