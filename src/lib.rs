@@ -7,6 +7,8 @@ pub mod accel;
 pub mod bsdf;
 /// Perspective camera.
 pub mod camera;
+/// Render state files for checkpoints and resuming.
+pub mod checkpoint;
 /// Film: XYZ accumulation and reconstruction filters.
 pub mod film;
 /// Image reading and writing: OpenEXR, Radiance HDR, PNG.
@@ -17,6 +19,8 @@ pub mod integrator;
 pub mod light;
 /// Geometry and sampling primitives.
 pub mod math;
+/// Merging independent renders weighted by their sample counts.
+pub mod merge;
 /// Wave optics: exact thin-film interference.
 pub mod optics;
 /// The render loop over tiles.

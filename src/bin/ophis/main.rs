@@ -1,5 +1,6 @@
 //! The `ophis` command line: one subcommand per file beside this one.
 
+mod merge;
 mod render;
 
 use clap::{Parser, Subcommand};
@@ -17,12 +18,16 @@ struct Cli {
 enum Command {
     /// Render a Mitsuba XML scene to EXR (linear sRGB, float32) and PNG (sRGB, 8-bit).
     Render(render::RenderArgs),
+    /// Merge renders of one scene made with different seeds (e.g. on several machines) into
+    /// the image one render with all their samples would have made.
+    Merge(merge::MergeArgs),
 }
 
 fn main() {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Render(args) => render::run(args),
+        Command::Merge(args) => merge::run(args),
     };
     if let Err(e) = result {
         eprintln!("error: {e:#}");
