@@ -74,11 +74,19 @@ fn truncated_and_malformed_xml() {
         says("truncated", &msg, &["scene.xml:"]);
     }
     let cases = [
-        ("unclosed", "<scene version=\"3.0.0\">\n<shape type=\"sphere\">\n</scene>", "scene.xml:3:"),
+        (
+            "unclosed",
+            "<scene version=\"3.0.0\">\n<shape type=\"sphere\">\n</scene>",
+            "scene.xml:3:",
+        ),
         ("empty", "", "scene.xml"),
         ("not xml", "\u{0}\u{1}garbage", "scene.xml:1:"),
         ("wrong root", "<shape type=\"sphere\"/>", "scene"),
-        ("bad attribute", "<scene version=\"3.0.0\">\n<shape type=sphere/>\n</scene>", "scene.xml:2:"),
+        (
+            "bad attribute",
+            "<scene version=\"3.0.0\">\n<shape type=sphere/>\n</scene>",
+            "scene.xml:2:",
+        ),
     ];
     for (case, xml, want) in cases {
         let msg = load_error(case, xml, &[]);
@@ -110,8 +118,14 @@ fn unknown_and_cyclic_references_and_includes() {
         "cyclic include",
         &frame("<include filename=\"a.xml\"/>"),
         &[
-            ("a.xml", b"<scene version=\"3.0.0\">\n<include filename=\"b.xml\"/>\n</scene>"),
-            ("b.xml", b"<scene version=\"3.0.0\">\n<include filename=\"a.xml\"/>\n</scene>"),
+            (
+                "a.xml",
+                b"<scene version=\"3.0.0\">\n<include filename=\"b.xml\"/>\n</scene>",
+            ),
+            (
+                "b.xml",
+                b"<scene version=\"3.0.0\">\n<include filename=\"a.xml\"/>\n</scene>",
+            ),
         ],
     );
     says("cyclic include", &msg, &["b.xml:2:", "a.xml"]);
@@ -121,7 +135,11 @@ fn unknown_and_cyclic_references_and_includes() {
         &[],
     );
     says("self include", &msg, &["scene.xml:3:"]);
-    let msg = load_error("include dir", &frame("<include filename=\"d/\"/>"), &[("d/", b"")]);
+    let msg = load_error(
+        "include dir",
+        &frame("<include filename=\"d/\"/>"),
+        &[("d/", b"")],
+    );
     says("include dir", &msg, &["scene.xml:3:", "d"]);
 }
 
@@ -133,7 +151,9 @@ fn broken_meshes() {
     let obj_trunc = &CUBE_OBJ[..CUBE_OBJ.len() - 4];
     let ply_trunc = &TRI_PLY[..TRI_PLY.len() - 8];
     let ply_huge = String::from_utf8_lossy(TRI_PLY).replace("vertex 3", "vertex 1000000000000");
-    let garbage: Vec<u8> = (0..4096u32).map(|i| (i.wrapping_mul(2654435761) >> 13) as u8).collect();
+    let garbage: Vec<u8> = (0..4096u32)
+        .map(|i| (i.wrapping_mul(2654435761) >> 13) as u8)
+        .collect();
     for ext in ["obj", "ply"] {
         let trunc = if ext == "obj" { obj_trunc } else { ply_trunc };
         let cases: Vec<(&str, Option<&[u8]>)> = vec![
@@ -165,7 +185,9 @@ fn broken_meshes() {
 
 #[test]
 fn broken_environment_images() {
-    let garbage: Vec<u8> = (0..4096u32).map(|i| (i.wrapping_mul(2246822519) >> 11) as u8).collect();
+    let garbage: Vec<u8> = (0..4096u32)
+        .map(|i| (i.wrapping_mul(2246822519) >> 11) as u8)
+        .collect();
     let hdr_trunc: &[u8] = b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 4 +X 4\n\x01\x02";
     let exr_trunc: &[u8] = &[0x76, 0x2f, 0x31, 0x01, 2, 0, 0, 0, b'c', b'h'];
     for ext in ["exr", "hdr"] {
@@ -243,7 +265,11 @@ fn command_line_errors_exit_non_zero_with_a_message() {
     let dir = temp("cli");
     let d = |p: &str| dir.join(p).display().to_string();
     let scene = d("scene.xml");
-    std::fs::write(&scene, frame("<shape type=\"sphere\">\n<float name=\"radius\" value=\"-1\"/></shape>")).unwrap();
+    std::fs::write(
+        &scene,
+        frame("<shape type=\"sphere\">\n<float name=\"radius\" value=\"-1\"/></shape>"),
+    )
+    .unwrap();
     let good = d("good.xml");
     std::fs::write(&good, frame("<shape type=\"sphere\"/>")).unwrap();
     std::fs::write(d("file"), b"x").unwrap();
@@ -251,20 +277,72 @@ fn command_line_errors_exit_non_zero_with_a_message() {
     let garbage_state = d("g.ophis-state");
     std::fs::write(&garbage_state, b"OPHISST\0 garbage").unwrap();
     let cases: Vec<(Vec<String>, Vec<String>)> = vec![
-        (vec!["render".into(), scene.clone(), "-q".into()], vec![format!("{scene}:4:"), "radius".into()]),
-        (vec!["render".into(), d("absent.xml")], vec![d("absent.xml")]),
-        (vec!["render".into(), dir.display().to_string()], vec!["directory".into()]),
-        (vec!["render".into(), good.clone(), "--spp".into(), "0".into()], vec!["--spp".into()]),
-        (vec!["render".into(), good.clone(), "--time=-1".into()], vec!["--time".into()]),
-        (vec!["render".into(), good.clone(), "--checkpoint".into(), "nan".into()], vec!["--checkpoint".into()]),
-        (vec!["render".into(), good.clone(), "-D".into(), "novalue".into()], vec!["NAME=VALUE".into()]),
-        (vec!["render".into(), good.clone(), "-o".into(), d("nodir/x.exr")], vec!["nodir".into(), "does not exist".into()]),
-        (vec!["render".into(), good.clone(), "-o".into(), d("file/x.exr")], vec![d("file")]),
-        (vec!["render".into(), good.clone(), "-o".into(), d("out.exr")], vec!["out.exr".into(), "directory".into()]),
-        (vec!["render".into(), "--resume".into(), garbage_state.clone()], vec![garbage_state.clone()]),
-        (vec!["render".into(), "--resume".into(), d("nostate")], vec![d("nostate")]),
-        (vec!["render".into(), good.clone(), "--threads".into(), "0".into()], vec!["--threads".into()]),
-        (vec!["merge".into(), d("m.exr"), d("absent.exr")], vec![d("absent.exr")]),
+        (
+            vec!["render".into(), scene.clone(), "-q".into()],
+            vec![format!("{scene}:4:"), "radius".into()],
+        ),
+        (
+            vec!["render".into(), d("absent.xml")],
+            vec![d("absent.xml")],
+        ),
+        (
+            vec!["render".into(), dir.display().to_string()],
+            vec!["directory".into()],
+        ),
+        (
+            vec!["render".into(), good.clone(), "--spp".into(), "0".into()],
+            vec!["--spp".into()],
+        ),
+        (
+            vec!["render".into(), good.clone(), "--time=-1".into()],
+            vec!["--time".into()],
+        ),
+        (
+            vec![
+                "render".into(),
+                good.clone(),
+                "--checkpoint".into(),
+                "nan".into(),
+            ],
+            vec!["--checkpoint".into()],
+        ),
+        (
+            vec!["render".into(), good.clone(), "-D".into(), "novalue".into()],
+            vec!["NAME=VALUE".into()],
+        ),
+        (
+            vec!["render".into(), good.clone(), "-o".into(), d("nodir/x.exr")],
+            vec!["nodir".into(), "does not exist".into()],
+        ),
+        (
+            vec!["render".into(), good.clone(), "-o".into(), d("file/x.exr")],
+            vec![d("file")],
+        ),
+        (
+            vec!["render".into(), good.clone(), "-o".into(), d("out.exr")],
+            vec!["out.exr".into(), "directory".into()],
+        ),
+        (
+            vec!["render".into(), "--resume".into(), garbage_state.clone()],
+            vec![garbage_state.clone()],
+        ),
+        (
+            vec!["render".into(), "--resume".into(), d("nostate")],
+            vec![d("nostate")],
+        ),
+        (
+            vec![
+                "render".into(),
+                good.clone(),
+                "--threads".into(),
+                "0".into(),
+            ],
+            vec!["--threads".into()],
+        ),
+        (
+            vec!["merge".into(), d("m.exr"), d("absent.exr")],
+            vec![d("absent.exr")],
+        ),
     ];
     for (args, want) in cases {
         let a: Vec<&str> = args.iter().map(|s| s.as_str()).collect();
