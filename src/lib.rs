@@ -17,6 +17,8 @@ pub mod image_io;
 pub mod integrator;
 /// Light sources.
 pub mod light;
+/// Memory estimates and limits checked before a scene is built.
+pub mod limits;
 /// Geometry and sampling primitives.
 pub mod math;
 /// Merging independent renders weighted by their sample counts.
