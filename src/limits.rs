@@ -16,7 +16,8 @@
 //! | PLY mesh            | 32 per vertex + 112 per triangle (indices, BVH, build), counts from the header; a polygon counts as 2 triangles |
 //! | OBJ mesh            | file size × 6 (an OBJ line of ~30 bytes becomes ~180 bytes)   |
 
-use crate::scene::mitsuba::{Node, SceneError, Tag};
+use crate::scene::build::MAX_RESOLUTION;
+use crate::scene::mitsuba::{Location, Node, SceneError, Tag};
 use std::path::Path;
 
 /// Bytes per film pixel.
@@ -32,6 +33,8 @@ pub struct MemoryEstimate {
     pub height: u64,
     pub film: u64,
     pub meshes: u64,
+    /// The largest single item: bytes, where it is declared, and what it is.
+    pub largest: Option<(u64, Location, String)>,
 }
 
 impl MemoryEstimate {
@@ -114,17 +117,17 @@ fn ply_counts(path: &Path) -> Option<(u64, u64)> {
     Some((v, f))
 }
 
-fn mesh_bytes(node: &Node) -> u64 {
+fn mesh_bytes(node: &Node) -> (u64, String) {
     let Ok(Some(path)) = node.props.get_path_opt("filename") else {
-        return 0;
+        return (0, String::new());
     };
     let Ok(meta) = std::fs::metadata(&path) else {
-        return 0;
+        return (0, String::new());
     };
     if !meta.is_file() {
-        return 0;
+        return (0, String::new());
     }
-    match node.plugin.as_str() {
+    let bytes = match node.plugin.as_str() {
         "ply" => ply_counts(&path)
             .map(|(v, f)| {
                 v.saturating_mul(VERTEX)
@@ -133,21 +136,31 @@ fn mesh_bytes(node: &Node) -> u64 {
             .unwrap_or(0),
         "obj" => meta.len().saturating_mul(OBJ_FACTOR),
         _ => 0,
-    }
+    };
+    (bytes, format!("the mesh {}", path.display()))
 }
 
 /// Estimates the memory a parsed scene will need.
 pub fn estimate(root: &Node) -> MemoryEstimate {
     let (mut w, mut h) = (768u64, 576u64);
     let mut meshes = 0u64;
+    let mut film_loc = root.loc.clone();
+    let mut largest: Option<(u64, Location, String)> = None;
+    let mut consider = |bytes: u64, loc: &Location, what: String| {
+        if largest.as_ref().is_none_or(|l| bytes > l.0) {
+            largest = Some((bytes, loc.clone(), what));
+        }
+    };
     for child in &root.children {
         let node = &child.node;
         match node.tag {
             Tag::Sensor => {
                 for c in &node.children {
                     if c.node.tag == Tag::Film {
+                        film_loc = c.node.loc.clone();
+                        // Out-of-range values are left to the builder's own message.
                         let get = |n: &str, d: u64| match c.node.props.get_int_opt(n) {
-                            Ok(Some(v)) if v > 0 => v as u64,
+                            Ok(Some(v)) if v > 0 && v <= MAX_RESOLUTION => v as u64,
                             _ => d,
                         };
                         w = get("width", w);
@@ -155,15 +168,23 @@ pub fn estimate(root: &Node) -> MemoryEstimate {
                     }
                 }
             }
-            Tag::Shape => meshes = meshes.saturating_add(mesh_bytes(node)),
+            Tag::Shape => {
+                let (b, what) = mesh_bytes(node);
+                meshes = meshes.saturating_add(b);
+                let loc = node.props.location("filename").unwrap_or(&node.loc);
+                consider(b, loc, what);
+            }
             _ => {}
         }
     }
+    let film = w.saturating_mul(h).saturating_mul(FILM_PIXEL);
+    consider(film, &film_loc, format!("the {w} × {h} film"));
     MemoryEstimate {
         width: w,
         height: h,
-        film: w.saturating_mul(h).saturating_mul(FILM_PIXEL),
+        film,
         meshes,
+        largest,
     }
 }
 
@@ -173,12 +194,17 @@ pub fn check(root: &Node, available: Option<u64>) -> Result<MemoryEstimate, Scen
     let e = estimate(root);
     if let Some(avail) = available {
         if e.total() > avail {
+            let (_, loc, what) = e
+                .largest
+                .clone()
+                .unwrap_or((0, root.loc.clone(), String::new()));
             return Err(SceneError::at(
-                &root.loc,
+                &loc,
                 format!(
                     "the scene needs about {} of memory but this machine allows {} \
-                     (film {} × {}: {}; meshes: {}); lower the film resolution or use \
-                     smaller meshes (set OPHIS_MEMORY_LIMIT to override the limit)",
+                     (film {} × {}: {}; meshes: {}; the largest part is {what}); lower the \
+                     film resolution or use smaller meshes (set OPHIS_MEMORY_LIMIT to \
+                     override the limit)",
                     human(e.total()),
                     human(avail),
                     e.width,
