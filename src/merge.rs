@@ -134,9 +134,9 @@ pub fn merge(inputs: &[MergeInput]) -> Result<(RgbImage, Vec<(String, String)>),
             ));
         }
         let c = pixel_counts(inp)?;
-        for i in 0..w * h {
-            for k in 0..3 {
-                sum[i][k] += inp.image.data[i][k] as f64 * c[i] as f64;
+        for (i, (s, px)) in sum.iter_mut().zip(&inp.image.data).enumerate() {
+            for (acc, v) in s.iter_mut().zip(px) {
+                *acc += *v as f64 * c[i] as f64;
             }
             count[i] += c[i];
         }

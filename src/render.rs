@@ -85,6 +85,9 @@ pub enum TileOrder {
     Shuffled(u64),
 }
 
+/// A checkpoint writer: called with the film between tiles.
+pub type CheckpointFn<'a> = &'a (dyn Fn(&Film) + Sync);
+
 /// Everything about a render that is not the image: stopping, progress, checkpoints.
 pub struct RenderControl<'a> {
     /// Set (e.g. by a signal handler) to stop starting tiles; tiles in flight finish.
@@ -94,7 +97,7 @@ pub struct RenderControl<'a> {
     /// Called with the film at most once per interval, between tiles, while no tile is being
     /// added: every tile then holds a whole number of passes, so the film is a valid state to
     /// resume from.
-    pub checkpoint: Option<(Duration, &'a (dyn Fn(&Film) + Sync))>,
+    pub checkpoint: Option<(Duration, CheckpointFn<'a>)>,
     /// Tile order.
     pub tile_order: TileOrder,
 }

@@ -183,6 +183,9 @@ fn broken_meshes() {
     says("huge ply", &msg, &["h.ply"]);
 }
 
+/// Files to create beside a scene: name (a trailing `/` makes a directory) and contents.
+type Files<'a> = Vec<(&'a str, &'a [u8])>;
+
 #[test]
 fn broken_environment_images() {
     let garbage: Vec<u8> = (0..4096u32)
@@ -194,7 +197,7 @@ fn broken_environment_images() {
         let trunc = if ext == "exr" { exr_trunc } else { hdr_trunc };
         let name = format!("e.{ext}");
         let dir_name = format!("{name}/");
-        let cases: Vec<(&str, Vec<(&str, &[u8])>)> = vec![
+        let cases: Vec<(&str, Files)> = vec![
             ("missing", vec![]),
             ("empty", vec![(name.as_str(), b"")]),
             ("truncated", vec![(name.as_str(), trunc)]),
@@ -211,9 +214,12 @@ fn broken_environment_images() {
     }
 }
 
+/// A case name, its scene and what the message must contain.
+type Case<'a> = (&'a str, String, &'a [&'a str]);
+
 #[test]
 fn nan_inf_negative_and_absurd_numbers() {
-    let cases: &[(&str, String, &[&str])] = &[
+    let cases: &[Case] = &[
         ("radius nan", frame("<shape type=\"sphere\">\n<float name=\"radius\" value=\"nan\"/></shape>"), &["scene.xml:4:", "radius"]),
         ("radius inf", frame("<shape type=\"sphere\">\n<float name=\"radius\" value=\"inf\"/></shape>"), &["scene.xml:4:", "radius"]),
         ("radius negative", frame("<shape type=\"sphere\">\n<float name=\"radius\" value=\"-2\"/></shape>"), &["scene.xml:4:", "radius"]),

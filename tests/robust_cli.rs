@@ -108,7 +108,7 @@ fn time_budget_then_resume_equals_one_uninterrupted_render() {
     ok(&ophis()
         .arg("render")
         .arg(reference())
-        .args(["-Dspp=160", "--seed", "3", "-q", "--threads", "2", "-o"])
+        .args(["-Dspp=64", "--seed", "3", "-q", "--threads", "2", "-o"])
         .arg(&whole)
         .output()
         .unwrap());
@@ -116,7 +116,7 @@ fn time_budget_then_resume_equals_one_uninterrupted_render() {
     let err = ok(&ophis()
         .arg("render")
         .arg(reference())
-        .args(["-Dspp=160", "--seed", "3", "-q", "--time", "0.05", "-o"])
+        .args(["-Dspp=64", "--seed", "3", "-q", "--time", "0.001", "-o"])
         .arg(&part)
         .output()
         .unwrap());
