@@ -19,6 +19,7 @@
 use std::io::Cursor;
 use std::path::{Path, PathBuf};
 
+mod exr_order;
 mod hdr;
 
 /// Largest accepted image, in pixels (2^28, i.e. 16384 × 16384).
@@ -467,8 +468,19 @@ pub fn write_exr(
         pixels,
     );
     let exr_image = Image::from_layer(layer);
+    // Written to memory first so that the header's attributes can be put in a fixed order:
+    // the same image and metadata then give the same bytes.
+    let mut bytes = Vec::new();
+    exr_image
+        .write()
+        .to_buffered(Cursor::new(&mut bytes))
+        .map_err(|e| ImageError::Write {
+            path: path.to_path_buf(),
+            what: e.to_string(),
+        })?;
+    exr_order::sort_header_attributes(&mut bytes);
     write_atomically(path, |tmp| {
-        exr_image.write().to_file(tmp).map_err(|e| e.to_string())
+        std::fs::write(tmp, &bytes).map_err(|e| e.to_string())
     })
 }
 

@@ -11,6 +11,8 @@ pub mod accel;
 pub mod bsdf;
 /// Perspective camera.
 pub mod camera;
+/// Render state files for checkpoints and resuming.
+pub mod checkpoint;
 /// Film: XYZ accumulation and reconstruction filters.
 pub mod film;
 /// Image reading and writing: OpenEXR, Radiance HDR, PNG.
@@ -19,8 +21,12 @@ pub mod image_io;
 pub mod integrator;
 /// Light sources.
 pub mod light;
+/// Memory estimates and limits checked before a scene is built.
+pub mod limits;
 /// Geometry and sampling primitives.
 pub mod math;
+/// Merging independent renders weighted by their sample counts.
+pub mod merge;
 /// Wave optics: exact thin-film interference.
 pub mod optics;
 /// Raster plotting for PNG figures: canvas, bitmap font, charts.

@@ -13,6 +13,7 @@ use crate::scene::Scene;
 use crate::spectrum::SampledWavelengths;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
 /// Tile edge in pixels.
@@ -71,6 +72,36 @@ pub fn pass_schedule(start: u32, spp: u32) -> Vec<(u32, u32)> {
     out
 }
 
+/// The order in which tiles are handed to the workers. It changes which tiles are finished
+/// first (and so what an interrupted render holds), never the sums of a completed pass.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum TileOrder {
+    /// Row by row from the top left.
+    #[default]
+    RowMajor,
+    /// Row by row from the bottom right.
+    Reversed,
+    /// A pseudo-random permutation fixed by the seed.
+    Shuffled(u64),
+}
+
+/// A checkpoint writer: called with the film between tiles.
+pub type CheckpointFn<'a> = &'a (dyn Fn(&Film) + Sync);
+
+/// Everything about a render that is not the image: stopping, progress, checkpoints.
+pub struct RenderControl<'a> {
+    /// Set (e.g. by a signal handler) to stop starting tiles; tiles in flight finish.
+    pub cancel: &'a AtomicBool,
+    /// Progress reporting.
+    pub progress: &'a dyn Progress,
+    /// Called with the film at most once per interval, between tiles, while no tile is being
+    /// added: every tile then holds a whole number of passes, so the film is a valid state to
+    /// resume from.
+    pub checkpoint: Option<(Duration, CheckpointFn<'a>)>,
+    /// Tile order.
+    pub tile_order: TileOrder,
+}
+
 /// Renders into `film` (which may already hold `start_spp` samples per pixel, e.g. when
 /// resuming), until `opts.spp`, the time limit, or `cancel` is set.
 pub fn render(
@@ -81,51 +112,119 @@ pub fn render(
     cancel: &AtomicBool,
     progress: &dyn Progress,
 ) -> RenderStats {
-    let t0 = Instant::now();
-    let (w, h) = (scene.width, scene.height);
-    let tiles: Vec<(u32, u32)> = (0..h.div_ceil(TILE))
+    let ctl = RenderControl {
+        cancel,
+        progress,
+        checkpoint: None,
+        tile_order: TileOrder::RowMajor,
+    };
+    render_with(scene, film, start_spp, opts, &ctl)
+}
+
+/// Tile origins in the requested order.
+fn tiles(w: u32, h: u32, order: TileOrder) -> Vec<(u32, u32)> {
+    let mut t: Vec<(u32, u32)> = (0..h.div_ceil(TILE))
         .flat_map(|ty| (0..w.div_ceil(TILE)).map(move |tx| (tx * TILE, ty * TILE)))
         .collect();
-    let total = w as u64 * h as u64 * opts.spp.saturating_sub(start_spp) as u64;
-    let done = AtomicU64::new(0);
-    let stop = AtomicBool::new(false);
-    let mut spp_complete = start_spp;
-    let mut stopped_early = false;
-
-    for (s0, s1) in pass_schedule(start_spp, opts.spp) {
-        let results: Vec<Option<((u32, u32), Vec<[f64; 4]>)>> = tiles
-            .par_iter()
-            .map(|&(x0, y0)| {
-                if cancel.load(Ordering::Relaxed) || stop.load(Ordering::Relaxed) {
-                    return None;
-                }
-                if let Some(limit) = opts.time_limit {
-                    if t0.elapsed() >= limit {
-                        stop.store(true, Ordering::Relaxed);
-                        return None;
-                    }
-                }
-                let acc = render_tile(scene, x0, y0, s0, s1, opts.strategy);
-                let n = acc.len() as u64 * (s1 - s0) as u64;
-                let d = done.fetch_add(n, Ordering::Relaxed) + n;
-                progress.update(d, total);
-                Some(((x0, y0), acc))
-            })
-            .collect();
-        let mut complete = true;
-        for r in results {
-            match r {
-                Some(((x0, y0), acc)) => add_tile(film, x0, y0, &acc),
-                None => complete = false,
+    match order {
+        TileOrder::RowMajor => {}
+        TileOrder::Reversed => t.reverse(),
+        TileOrder::Shuffled(seed) => {
+            let mut rng = crate::math::Pcg32::new(seed, 0);
+            for i in (1..t.len()).rev() {
+                let j = (rng.next_u32() as usize) % (i + 1);
+                t.swap(i, j);
             }
         }
-        if complete {
-            spp_complete = s1;
-        } else {
+    }
+    t
+}
+
+/// Samples per pixel a tile already holds (all pixels of a tile always hold the same count).
+pub fn tile_spp(film: &Film, x0: u32, y0: u32) -> u32 {
+    film.pixels[(y0 * film.width + x0) as usize][3] as u32
+}
+
+/// Like [`render`], with checkpoints and a tile order. Each tile resumes from the samples the
+/// film already holds for it, so an interrupted film (where some tiles finished a pass that
+/// others had not started) continues exactly where it stopped: the same sample indices are
+/// grouped into the same passes, and the sums are bit-identical to an uninterrupted render.
+pub fn render_with(
+    scene: &Scene,
+    film: &mut Film,
+    start_spp: u32,
+    opts: &RenderOptions,
+    ctl: &RenderControl,
+) -> RenderStats {
+    assert!(
+        film.width == scene.width && film.height == scene.height,
+        "film and scene resolutions differ"
+    );
+    let t0 = Instant::now();
+    let (w, h) = (scene.width, scene.height);
+    let tiles = tiles(w, h, ctl.tile_order);
+    let pixels_of = |(x0, y0): (u32, u32)| {
+        let (x1, y1) = tile_extent(scene, x0, y0);
+        ((x1 - x0) * (y1 - y0)) as u64
+    };
+    let total: u64 = tiles
+        .iter()
+        .map(|&t| {
+            let from = tile_spp(film, t.0, t.1).max(start_spp);
+            pixels_of(t) * opts.spp.saturating_sub(from) as u64
+        })
+        .sum();
+    let done = AtomicU64::new(0);
+    let stop = AtomicBool::new(false);
+    let mut stopped_early = false;
+    let shared = Mutex::new((film, Instant::now()));
+
+    for (s0, s1) in pass_schedule(start_spp, opts.spp) {
+        let todo: Vec<((u32, u32), u32)> = {
+            let g = shared.lock().unwrap_or_else(|e| e.into_inner());
+            tiles
+                .iter()
+                .map(|&t| (t, tile_spp(g.0, t.0, t.1).max(s0)))
+                .filter(|&(_, from)| from < s1)
+                .collect()
+        };
+        let missed = AtomicBool::new(false);
+        todo.par_iter().for_each(|&((x0, y0), from)| {
+            if ctl.cancel.load(Ordering::Relaxed) || stop.load(Ordering::Relaxed) {
+                missed.store(true, Ordering::Relaxed);
+                return;
+            }
+            if let Some(limit) = opts.time_limit {
+                if t0.elapsed() >= limit {
+                    stop.store(true, Ordering::Relaxed);
+                    missed.store(true, Ordering::Relaxed);
+                    return;
+                }
+            }
+            let acc = render_tile(scene, x0, y0, from, s1, opts.strategy);
+            let n = acc.len() as u64 * (s1 - from) as u64;
+            let d = done.fetch_add(n, Ordering::Relaxed) + n;
+            ctl.progress.update(d, total);
+            let mut g = shared.lock().unwrap_or_else(|e| e.into_inner());
+            add_tile(g.0, x0, y0, &acc);
+            if let Some((every, write)) = ctl.checkpoint {
+                if g.1.elapsed() >= every {
+                    write(g.0);
+                    g.1 = Instant::now();
+                }
+            }
+        });
+        if missed.load(Ordering::Relaxed) {
             stopped_early = true;
             break;
         }
     }
+    let film = shared.into_inner().unwrap_or_else(|e| e.into_inner()).0;
+    let spp_complete = tiles
+        .iter()
+        .map(|&(x, y)| tile_spp(film, x, y))
+        .min()
+        .unwrap_or(0);
     RenderStats {
         spp_complete,
         samples: done.load(Ordering::Relaxed),

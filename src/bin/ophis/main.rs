@@ -1,5 +1,6 @@
 //! The `ophis` command line: one subcommand per file beside this one.
 
+mod merge;
 mod render;
 mod thinfilm;
 mod thinfilm_plot;
@@ -21,6 +22,9 @@ enum Command {
     Render(render::RenderArgs),
     /// Reflectance of a thin film against wavelength and angle: CSV, colours, plots.
     Thinfilm(thinfilm::ThinFilmArgs),
+    /// Merge renders of one scene made with different seeds (e.g. on several machines) into
+    /// the image one render with all their samples would have made.
+    Merge(merge::MergeArgs),
 }
 
 fn main() {
@@ -28,6 +32,7 @@ fn main() {
     let result = match cli.command {
         Command::Render(args) => render::run(args),
         Command::Thinfilm(args) => thinfilm::run(args),
+        Command::Merge(args) => merge::run(args),
     };
     if let Err(e) = result {
         eprintln!("error: {e:#}");

@@ -3,10 +3,12 @@
 use anyhow::{bail, Context, Result};
 use clap::Parser;
 use indicatif::{ProgressBar, ProgressStyle};
+use ophis::checkpoint::{hash_bytes, RenderState, StateInfo};
 use ophis::film::Film;
 use ophis::image_io::{write_exr, write_png, RgbImage};
 use ophis::integrator::PathStrategy;
-use ophis::render::{render, Progress, RenderOptions};
+use ophis::merge::{encode_tile_spp, film_tile_spp, KEY_SAMPLES, KEY_SEED, KEY_SPP, KEY_TILE_SPP};
+use ophis::render::{render_with, Progress, RenderControl, RenderOptions, TileOrder};
 use ophis::scene::build::{load_scene, LoadOptions};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -16,8 +18,10 @@ use std::time::Duration;
 /// Arguments of `ophis render`.
 #[derive(Parser)]
 pub struct RenderArgs {
-    /// The scene file (Mitsuba XML, version 3.x or 0.6).
-    scene: PathBuf,
+    /// The scene file (Mitsuba XML, version 3.x or 0.6). Optional with `--resume`, which
+    /// remembers it; if given, it must be the same file.
+    #[arg(required_unless_present = "resume")]
+    scene: Option<PathBuf>,
     /// Output path: `x.exr` or `x.png` writes one file; a name without either extension writes
     /// both `name.exr` and `name.png`. Default: the scene's file name in the current directory.
     #[arg(short = 'o', long = "output")]
@@ -39,30 +43,51 @@ pub struct RenderArgs {
     #[arg(long, value_name = "SECONDS")]
     time: Option<f64>,
     /// Estimator: `mis` (default), `light` (light sampling only) or `bsdf` (BSDF sampling only).
-    #[arg(long, default_value = "mis", value_parser = ["mis", "light", "bsdf"])]
-    strategy: String,
+    #[arg(long, value_parser = ["mis", "light", "bsdf"])]
+    strategy: Option<String>,
+    /// Save the render state every SECONDS (and at the end), atomically, to the state file
+    /// (`--state`, default: the output name with `.ophis-state`), for `--resume`.
+    #[arg(long, value_name = "SECONDS")]
+    checkpoint: Option<f64>,
+    /// Continue the render saved in STATE until the target spp (`--spp` may raise it). The
+    /// scene, `-D`, `--seed` and `--strategy` come from the state; giving different ones is
+    /// an error. Checkpoints go back to STATE.
+    #[arg(long, value_name = "STATE")]
+    resume: Option<PathBuf>,
+    /// Where to write the render state (checkpoints, and on interruption).
+    #[arg(long, value_name = "PATH")]
+    state: Option<PathBuf>,
+    /// Tile order: `row` (default), `reversed` or `shuffled`. The image does not depend on it.
+    #[arg(long, default_value = "row", value_parser = ["row", "reversed", "shuffled"])]
+    tile_order: String,
     /// No progress bar.
     #[arg(short, long)]
     quiet: bool,
 }
 
-/// Resolves `-o` into the list of files to write.
-fn output_paths(scene: &Path, output: Option<&Path>) -> Vec<PathBuf> {
-    let base = match output {
-        Some(o) => {
-            match o
-                .extension()
-                .and_then(|e| e.to_str())
-                .map(|e| e.to_ascii_lowercase())
-            {
-                Some(e) if e == "exr" || e == "png" => return vec![o.to_path_buf()],
-                _ => o.to_path_buf(),
-            }
-        }
+fn single_output(output: Option<&Path>) -> bool {
+    output
+        .and_then(|o| o.extension())
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("exr") || e.eq_ignore_ascii_case("png"))
+}
+
+/// The output name without extension: `-o` (minus `.exr`/`.png`) or the scene's file stem.
+fn output_base(scene: &Path, output: Option<&Path>) -> PathBuf {
+    match output {
+        Some(o) if single_output(output) => o.with_extension(""),
+        Some(o) => o.to_path_buf(),
         None => PathBuf::from(scene.file_stem().unwrap_or_default()),
-    };
+    }
+}
+
+/// Resolves `-o` into the list of files to write.
+fn output_paths(base: &Path, output: Option<&Path>) -> Vec<PathBuf> {
+    if let (true, Some(o)) = (single_output(output), output) {
+        return vec![o.to_path_buf()];
+    }
     let with = |ext: &str| {
-        let mut s = base.clone().into_os_string();
+        let mut s = base.as_os_str().to_owned();
         s.push(".");
         s.push(ext);
         PathBuf::from(s)
@@ -109,18 +134,131 @@ fn parse_defines(defs: &[String]) -> Result<Vec<(String, String)>> {
         .collect()
 }
 
+/// The settings a render runs with, from the command line or from a state being resumed.
+struct Plan {
+    scene: PathBuf,
+    info: StateInfo,
+    film: Option<Film>,
+    state_path: Option<PathBuf>,
+}
+
+/// Reads the scene file once, for its hash (the loader reads it again; scenes are small).
+fn scene_hash(path: &Path) -> Result<u64> {
+    if path.is_dir() {
+        bail!("{}: is a directory, not a scene file", path.display());
+    }
+    let bytes = std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))?;
+    Ok(hash_bytes(&bytes))
+}
+
+fn plan(args: &RenderArgs, defines: Vec<(String, String)>, base: &Path) -> Result<Plan> {
+    let state_default = || {
+        args.state.clone().unwrap_or_else(|| {
+            let mut s = base.as_os_str().to_owned();
+            s.push(".ophis-state");
+            PathBuf::from(s)
+        })
+    };
+    let Some(resume) = &args.resume else {
+        let scene = args
+            .scene
+            .clone()
+            .expect("clap requires a scene without --resume");
+        let hash = scene_hash(&scene)?;
+        let scene_abs = std::path::absolute(&scene).unwrap_or_else(|_| scene.clone());
+        return Ok(Plan {
+            scene,
+            info: StateInfo {
+                scene_path: scene_abs,
+                scene_hash: hash,
+                seed: args.seed.unwrap_or(0),
+                spp: args.spp.unwrap_or(0),
+                strategy: args.strategy.clone().unwrap_or_else(|| "mis".into()),
+                defines,
+            },
+            film: None,
+            state_path: Some(state_default()),
+        });
+    };
+    let st = RenderState::read(resume)?;
+    let mut info = st.info;
+    let scene = args
+        .scene
+        .clone()
+        .unwrap_or_else(|| info.scene_path.clone());
+    let hash = scene_hash(&scene)?;
+    if hash != info.scene_hash {
+        bail!(
+            "cannot resume {}: the scene {} is not the file it was started from \
+             (its contents changed, or it is another file); render it afresh instead",
+            resume.display(),
+            scene.display()
+        );
+    }
+    let differs = |what: &str, given: String, stored: String| -> Result<()> {
+        if given != stored {
+            bail!(
+                "cannot resume {}: {what} {given} differs from the {stored} stored in it; \
+                 a resumed render keeps the settings it started with",
+                resume.display()
+            );
+        }
+        Ok(())
+    };
+    if let Some(seed) = args.seed {
+        differs("--seed", seed.to_string(), info.seed.to_string())?;
+    }
+    if let Some(s) = &args.strategy {
+        differs("--strategy", s.clone(), info.strategy.clone())?;
+    }
+    if !defines.is_empty() {
+        let show = |d: &[(String, String)]| {
+            d.iter()
+                .map(|(k, v)| format!("-D {k}={v}"))
+                .collect::<Vec<_>>()
+                .join(" ")
+        };
+        differs("-D", show(&defines), show(&info.defines))?;
+    }
+    if let Some(spp) = args.spp {
+        info.spp = spp;
+    }
+    Ok(Plan {
+        scene,
+        info,
+        film: Some(st.film),
+        state_path: Some(args.state.clone().unwrap_or_else(|| resume.clone())),
+    })
+}
+
+fn tile_order(name: &str, seed: u64) -> TileOrder {
+    match name {
+        "reversed" => TileOrder::Reversed,
+        "shuffled" => TileOrder::Shuffled(seed),
+        _ => TileOrder::RowMajor,
+    }
+}
+
 pub fn run(args: RenderArgs) -> Result<()> {
     let defines = parse_defines(&args.defines)?;
-    if let Some(t) = args.time {
-        if !(t > 0.0 && t.is_finite()) {
-            bail!("--time expects a positive number of seconds, got {t}");
+    for (name, v) in [("--time", args.time), ("--checkpoint", args.checkpoint)] {
+        if let Some(t) = v {
+            if !(t > 0.0 && t.is_finite() && t < 1e9) {
+                bail!("{name} expects a positive number of seconds, got {t}");
+            }
         }
     }
     if args.spp == Some(0) {
         bail!("--spp must be at least 1");
     }
-    let outputs = output_paths(&args.scene, args.output.as_deref());
-    for o in &outputs {
+    let scene_arg = args.scene.clone().or_else(|| args.resume.clone());
+    let base = output_base(
+        scene_arg.as_deref().unwrap_or(Path::new("render")),
+        args.output.as_deref(),
+    );
+    let mut plan = plan(&args, defines, &base)?;
+    let outputs = output_paths(&base, args.output.as_deref());
+    for o in outputs.iter().chain(&plan.state_path) {
         check_writable(o)?;
     }
     if let Some(n) = args.threads {
@@ -134,19 +272,33 @@ pub fn run(args: RenderArgs) -> Result<()> {
     }
 
     let load_opts = LoadOptions {
-        defines,
-        spp: args.spp,
-        seed: args.seed,
+        defines: plan.info.defines.clone(),
+        spp: (plan.info.spp > 0).then_some(plan.info.spp),
+        seed: (args.seed.is_some() || args.resume.is_some()).then_some(plan.info.seed),
     };
-    let (scene, warnings) = load_scene(&args.scene, &load_opts)?;
+    let (scene, warnings) = load_scene(&plan.scene, &load_opts)?;
     for w in &warnings {
         eprintln!("warning: {w}");
     }
+    plan.info.spp = scene.sampler.spp;
+    plan.info.seed = scene.sampler.seed;
+    let mut film = match plan.film.take() {
+        Some(f) if (f.width, f.height) != (scene.width, scene.height) => bail!(
+            "cannot resume: the state holds a {} × {} image but the scene now renders {} × {}",
+            f.width,
+            f.height,
+            scene.width,
+            scene.height
+        ),
+        Some(f) => f,
+        None => Film::new(scene.width, scene.height),
+    };
 
     let cancel = Arc::new(AtomicBool::new(false));
     {
         let cancel = cancel.clone();
-        // First Ctrl-C: finish the tiles in flight and write what we have. Second: leave now.
+        // First Ctrl-C / SIGTERM: finish the tiles in flight and write what we have.
+        // Second: leave now.
         let _ = ctrlc::set_handler(move || {
             if cancel.swap(true, Ordering::SeqCst) {
                 eprintln!("\ninterrupted twice: exiting without writing");
@@ -159,7 +311,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
     let opts = RenderOptions {
         spp: scene.sampler.spp,
         time_limit: args.time.map(Duration::from_secs_f64),
-        strategy: match args.strategy.as_str() {
+        strategy: match plan.info.strategy.as_str() {
             "light" => PathStrategy::LightOnly,
             "bsdf" => PathStrategy::BsdfOnly,
             _ => PathStrategy::Mis,
@@ -178,19 +330,37 @@ pub fn run(args: RenderArgs) -> Result<()> {
         );
         b
     };
-    let mut film = Film::new(scene.width, scene.height);
-    let stats = render(&scene, &mut film, 0, &opts, &cancel, &Bar(bar.clone()));
+    let state_path = plan.state_path.clone().expect("always set");
+    let save = |f: &Film| {
+        if let Err(e) = plan.info.write(f, &state_path) {
+            eprintln!("warning: checkpoint failed: {e}");
+        }
+    };
+    let ctl = RenderControl {
+        cancel: &cancel,
+        progress: &Bar(bar.clone()),
+        checkpoint: args
+            .checkpoint
+            .map(|s| (Duration::from_secs_f64(s), &save as &(dyn Fn(&Film) + Sync))),
+        tile_order: tile_order(&args.tile_order, plan.info.seed),
+    };
+    let stats = render_with(&scene, &mut film, 0, &opts, &ctl);
     bar.finish_and_clear();
 
+    let kept = film.total_weight() as u64;
     let image = RgbImage {
         width: film.width as usize,
         height: film.height as usize,
         data: film.to_linear_srgb(),
     };
     let meta = vec![
-        ("ophis.spp".to_string(), stats.spp_complete.to_string()),
-        ("ophis.samples".to_string(), stats.samples.to_string()),
-        ("ophis.seed".to_string(), scene.sampler.seed.to_string()),
+        (KEY_SPP.to_string(), stats.spp_complete.to_string()),
+        (KEY_SAMPLES.to_string(), kept.to_string()),
+        (
+            KEY_TILE_SPP.to_string(),
+            encode_tile_spp(&film_tile_spp(&film)),
+        ),
+        (KEY_SEED.to_string(), scene.sampler.seed.to_string()),
     ];
     for o in &outputs {
         let is_png = o
@@ -203,6 +373,13 @@ pub fn run(args: RenderArgs) -> Result<()> {
             write_exr(o, &image, &meta).with_context(|| format!("writing {}", o.display()))?;
         }
     }
+    // The state is worth keeping when the render can be continued or was asked for.
+    let keep_state = stats.stopped_early || args.checkpoint.is_some() || args.resume.is_some();
+    if keep_state {
+        plan.info
+            .write(&film, &state_path)
+            .with_context(|| "saving the render state")?;
+    }
     let names: Vec<String> = outputs.iter().map(|p| p.display().to_string()).collect();
     let sps = stats.samples as f64 / stats.seconds.max(1e-9);
     eprintln!(
@@ -211,7 +388,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
         scene.height,
         stats.spp_complete,
         if stats.stopped_early {
-            format!(" (stopped early; {} samples)", stats.samples)
+            format!(" (stopped early; {kept} samples)")
         } else {
             String::new()
         },
@@ -219,11 +396,22 @@ pub fn run(args: RenderArgs) -> Result<()> {
         sps / 1e6,
         names.join(", ")
     );
+    let resume_hint = format!(
+        "continue with: ophis render --resume {}",
+        state_path.display()
+    );
     if cancel.load(Ordering::SeqCst) {
         bail!(
-            "render interrupted; kept {} samples ({} complete spp)",
-            stats.samples,
-            stats.spp_complete
+            "render interrupted; kept {kept} samples ({} complete spp of {}) in {}; {resume_hint}",
+            stats.spp_complete,
+            opts.spp,
+            names.join(", ")
+        );
+    }
+    if stats.stopped_early {
+        eprintln!(
+            "time budget reached after {} complete spp of {}; {resume_hint}",
+            stats.spp_complete, opts.spp
         );
     }
     Ok(())

@@ -36,10 +36,12 @@ pub struct LoadOptions {
 /// would not fit in memory.
 pub const MAX_RESOLUTION: i64 = 1 << 15;
 
-/// Loads and builds a scene file. Warnings (unknown plugins, unused parameters) are returned
+/// Loads and builds a scene file, refusing one whose estimated memory exceeds the machine's
+/// ([`crate::limits`]). Warnings (unknown plugins, unused parameters) are returned
 /// rather than printed.
 pub fn load_scene(path: &Path, opts: &LoadOptions) -> Result<(Scene, Vec<Warning>), SceneError> {
     let (root, mut warnings) = mitsuba::load_file(path, &opts.defines)?;
+    crate::limits::check(&root, crate::limits::machine_memory())?;
     let scene = build_scene(&root, opts, &mut warnings)?;
     warnings.extend(mitsuba::check_unused(&root));
     Ok((scene, warnings))
@@ -52,6 +54,7 @@ pub fn load_scene_str(
     opts: &LoadOptions,
 ) -> Result<(Scene, Vec<Warning>), SceneError> {
     let (root, mut warnings) = mitsuba::load_str(xml, file_name, &opts.defines)?;
+    crate::limits::check(&root, crate::limits::machine_memory())?;
     let scene = build_scene(&root, opts, &mut warnings)?;
     warnings.extend(mitsuba::check_unused(&root));
     Ok((scene, warnings))
