@@ -101,6 +101,18 @@ pub enum Material {
         front: Box<Material>,
         back: Option<Box<Material>>,
     },
+    /// `bumpmap`: `inner` with its normal displaced by `scale`·`height` (see `bumpmap.rs`).
+    BumpMap {
+        height: FloatTexture,
+        scale: f32,
+        inner: Box<Material>,
+    },
+    /// `normalmap` with a `scales` relief as the tangent-space normal source.
+    NormalMap {
+        cells: std::sync::Arc<crate::texture::Scales>,
+        strength: f32,
+        inner: Box<Material>,
+    },
     /// `null` (for now: black; an index-matched pass-through would be `ThinDielectric` with
     /// η = 1).
     Null,
@@ -328,6 +340,10 @@ impl Material {
                 };
                 return (m.eval(tc, wl, true).0, true);
             }
+            // Bump and normal maps change the frame (`shading_frame`), not the BSDF.
+            Material::BumpMap { inner, .. } | Material::NormalMap { inner, .. } => {
+                return inner.eval(tc, wl, front_side)
+            }
             Material::Null => Bxdf::Black,
         };
         (bxdf, false)
@@ -342,6 +358,9 @@ impl Material {
             Material::TwoSided { front, back } => {
                 front.has_delta_only() && back.as_ref().is_none_or(|b| b.has_delta_only())
             }
+            Material::BumpMap { inner, .. } | Material::NormalMap { inner, .. } => {
+                inner.has_delta_only()
+            }
             _ => false,
         }
     }
@@ -355,6 +374,9 @@ impl Material {
             | Material::Null => true,
             Material::TwoSided { front, back } => {
                 front.has_transmission() || back.as_ref().is_some_and(|b| b.has_transmission())
+            }
+            Material::BumpMap { inner, .. } | Material::NormalMap { inner, .. } => {
+                inner.has_transmission()
             }
             _ => false,
         }
