@@ -3,6 +3,7 @@
 
 mod emitters;
 mod materials;
+mod procedural;
 mod scales;
 mod shapes;
 pub mod values;
