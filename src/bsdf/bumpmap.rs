@@ -60,7 +60,7 @@ pub fn bump_normal(n: Vec3, dpdu: Vec3, dpdv: Vec3, grad: Vec2, scale: f32) -> (
     let pv = tv + n * (scale * grad.y);
     let c = pu.cross(pv);
     let len = c.length();
-    if !(len > 1e-20) || !len.is_finite() {
+    if len.is_nan() || len <= 1e-20 || !len.is_finite() {
         return (n, dpdu);
     }
     let m = c / len;

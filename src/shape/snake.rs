@@ -33,7 +33,7 @@
 //! | `waves`           | float     | 1.25    | —           | periods of the S-curve along the body    |
 //! | `amplitude`       | float     | 0.45    | world units | sideways swing of the centreline         |
 //! | `phase`           | float     | 0       | degrees     | phase of the swing at the snout          |
-//! | `head_length`     | float     | 0.05    | of length   | snout to the back of the head            |
+//! | `head_length`     | float     | 0.07    | of length   | snout to the back of the head            |
 //! | `neck`            | float     | 0.8     | of radius   | neck radius                              |
 //! | `tail_length`     | float     | 0.35    | of length   | tapering tail                            |
 //! | `flatten`         | float     | 0.25    | —           | belly height deficit (0 = round)         |
@@ -42,8 +42,8 @@
 //! | `to_world`        | transform | identity| —           | placement                                |
 //! | `flip_normals`    | boolean   | false   | —           | normals inwards                          |
 //!
-//! A picture of the parameters is `docs/snake-parameters.png`. Users can still load their own
-//! snake with `obj`/`ply`.
+//! A picture of the default snake is `docs/snake-shape.png` (`scenes/snake-shape.xml`). Users
+//! can still load their own snake with `obj`/`ply`.
 //!
 //! Limits: planar centreline (no coils stacked in height); the body may intersect itself if
 //! `amplitude` is large against the wavelength `length`/`waves`; no separate jaw or eyes.
@@ -79,7 +79,7 @@ impl Default for SnakeParams {
             waves: 1.25,
             amplitude: 0.45,
             phase: 0.0,
-            head_length: 0.05,
+            head_length: 0.07,
             neck: 0.8,
             tail_length: 0.35,
             flatten: 0.25,

@@ -27,10 +27,11 @@
 //! seam at u = 0 ≡ 1 shows no seam; across v the rows also alternate, so v wraps cleanly only for
 //! an even integer `scale_v`.
 //!
-//! Filtering: there are no ray differentials yet. `eval_filtered` takes a footprint (the width a
-//! pixel covers, in cells): the groove is widened to at least the footprint, and between a
-//! footprint of ¼ and 1 cell the relief fades to its mean, so the scales fade out instead of
-//! aliasing. The bump path estimates the footprint from the camera (see `bsdf/bumpmap.rs`).
+//! Filtering: there are no ray differentials yet. `sample_filtered` takes a footprint (the width
+//! a pixel covers, in cells): the groove is widened to at least a quarter of it, and between a
+//! footprint of ½ and 2 cells the relief fades to its mean, so scales smaller than a pixel fade
+//! out instead of aliasing. The bump path estimates the footprint from the camera (see
+//! `bsdf/bumpmap.rs`).
 //!
 //! | XML name       | type   | default | unit    | meaning                                          |
 //! |----------------|--------|---------|---------|--------------------------------------------------|
@@ -149,7 +150,7 @@ fn smoothstep(e0: f32, e1: f32, x: f32) -> f32 {
 /// The period of an integer cell count (wrapping of lattice indices), or 0 for none.
 fn period(scale: f32) -> i32 {
     let r = scale.round();
-    if (scale - r).abs() < 1e-3 && r >= 1.0 && r < 1e6 {
+    if (scale - r).abs() < 1e-3 && (1.0..1e6).contains(&r) {
         r as i32
     } else {
         0
@@ -236,7 +237,7 @@ impl Scales {
         // Only the two nearest edges meet at a corner of the cell; taking just those keeps the
         // result independent of the order the neighbours were visited in.
         let edge = smooth_min(edge, second, round).max(0.0);
-        let gap = self.gap.max(width.min(0.5));
+        let gap = self.gap.max((0.25 * width).min(0.5));
         let shoulder = smoothstep(0.0, gap, edge);
         let q = (p - c0) / CELL_RADIUS;
         // x(2 − x) and r(3 − r²)/2 saturate with zero slope, so the relief stays C¹.
@@ -246,7 +247,7 @@ impl Scales {
         let r = 0.5 * r * (3.0 - r * r);
         let tile = 1.0 - self.overlap * 0.5 * (1.0 - r);
         let relief = shoulder * top * tile;
-        let fade = smoothstep(0.25, 1.0, width);
+        let fade = smoothstep(0.5, 2.0, width);
         ScaleSample {
             height: relief + fade * (FADE_LEVEL - relief),
             edge_distance: edge,
