@@ -85,6 +85,12 @@ impl PerspectiveCamera {
         }
     }
 
+    /// Angle one pixel subtends at the image centre, for an image `height` pixels tall
+    /// (a footprint estimate for texture filtering).
+    pub fn pixel_angle(&self, height: u32) -> f32 {
+        2.0 * self.tan_half.y / height.max(1) as f32
+    }
+
     /// The camera ray through the film point `film` ∈ [0,1]² (x right, y down).
     #[inline]
     pub fn generate_ray(&self, film: Vec2) -> Ray {

@@ -105,6 +105,18 @@ pub enum Material {
     /// `thinfilm`, `roughthinfilm`, `thinfilmconductor`, `roughthinfilmconductor` (and the
     /// seed's aliases).
     ThinFilm(Box<FilmMaterial>),
+    /// `bumpmap`: `inner` with its normal displaced by `scale`·`height` (see `bumpmap.rs`).
+    BumpMap {
+        height: FloatTexture,
+        scale: f32,
+        inner: Box<Material>,
+    },
+    /// `normalmap` with a `scales` relief as the tangent-space normal source.
+    NormalMap {
+        cells: std::sync::Arc<crate::texture::Scales>,
+        strength: f32,
+        inner: Box<Material>,
+    },
     /// `null` (for now: black; an index-matched pass-through would be `ThinDielectric` with
     /// η = 1).
     Null,
@@ -333,6 +345,10 @@ impl Material {
                 return (m.eval(tc, wl, true).0, true);
             }
             Material::ThinFilm(m) => m.eval(tc, wl),
+            // Bump and normal maps change the frame (`shading_frame`), not the BSDF.
+            Material::BumpMap { inner, .. } | Material::NormalMap { inner, .. } => {
+                return inner.eval(tc, wl, front_side)
+            }
             Material::Null => Bxdf::Black,
         };
         (bxdf, false)
@@ -348,6 +364,9 @@ impl Material {
             Material::TwoSided { front, back } => {
                 front.has_delta_only() && back.as_ref().is_none_or(|b| b.has_delta_only())
             }
+            Material::BumpMap { inner, .. } | Material::NormalMap { inner, .. } => {
+                inner.has_delta_only()
+            }
             _ => false,
         }
     }
@@ -362,6 +381,9 @@ impl Material {
             Material::ThinFilm(m) => m.has_transmission(),
             Material::TwoSided { front, back } => {
                 front.has_transmission() || back.as_ref().is_some_and(|b| b.has_transmission())
+            }
+            Material::BumpMap { inner, .. } | Material::NormalMap { inner, .. } => {
+                inner.has_transmission()
             }
             _ => false,
         }

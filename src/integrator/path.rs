@@ -9,7 +9,7 @@
 
 use crate::bsdf::{Bsdf, Material, TransportMode};
 use crate::light::LightSampleContext;
-use crate::math::{power_heuristic, Frame, Ray, Vec3};
+use crate::math::{power_heuristic, Ray, Vec3};
 use crate::sampler::Sampler;
 use crate::scene::Scene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
@@ -53,6 +53,10 @@ pub fn radiance(
     let use_bsdf_hits = strategy != PathStrategy::LightOnly;
     let mut depth = 0u32;
     let mut null_crossings = 0u32;
+    // Pixel footprint for texture filtering: the camera's pixel angle times the path length
+    // (no ray differentials yet; after a bounce this underestimates the footprint).
+    let pixel_angle = scene.camera.pixel_angle(scene.height);
+    let mut path_length = 0.0f32;
 
     loop {
         let Some((_hit, si)) = scene.intersect(&ray) else {
@@ -81,6 +85,7 @@ pub fn radiance(
         };
 
         let wo = -ray.d;
+        path_length += si.t;
         // Emission from an area light that the path hit.
         if let Some(li) = scene.shape_light[si.shape as usize] {
             if !(depth == 0 && settings.hide_emitters) {
@@ -122,7 +127,7 @@ pub fn radiance(
         let tc = TexCoord { uv: si.uv, p: si.p };
         let (bxdf, two_sided) = material.eval(&tc, wl, front);
         let bsdf = Bsdf {
-            frame: Frame::from_normal_tangent(si.ns, si.dpdu),
+            frame: material.shading_frame(&si, wo, pixel_angle * path_length),
             bxdf,
             two_sided,
         };
@@ -142,7 +147,7 @@ pub fn radiance(
                 if let Some(ls) = light.sample_li(&ctx, u, wl, &scene.shapes) {
                     if ls.pdf > 0.0 && !ls.l.is_black() {
                         let f = bsdf.f(wo, ls.wi, TransportMode::Radiance, sampler.rng())
-                            * ls.wi.dot(si.ns).abs();
+                            * ls.wi.dot(bsdf.frame.n).abs();
                         if !f.is_black() && !scene.occluded(&Ray::spawn_to(si.p, si.ng, ls.p_light))
                         {
                             let light_pdf = pmf * ls.pdf;
@@ -166,7 +171,7 @@ pub fn radiance(
         let Some(bs) = bsdf.sample_f(wo, uc, u, TransportMode::Radiance, sampler.rng()) else {
             break;
         };
-        let cos = bs.wi.dot(si.ns).abs();
+        let cos = bs.wi.dot(bsdf.frame.n).abs();
         beta *= bs.f * (cos / bs.pdf);
         if !beta.is_finite() {
             break;

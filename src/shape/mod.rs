@@ -59,7 +59,9 @@ pub mod mesh;
 pub mod obj;
 pub mod ply;
 pub mod primitives;
+pub mod snake;
 pub mod sphere;
+pub mod torus;
 
 pub use disk::Disk;
 pub use load::{LoadError, MeshData, MeshOptions};

@@ -2,6 +2,13 @@
 
 use crate::math::{Mat3, Vec2, Vec3};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
+use std::sync::Arc;
+
+pub mod per_scale;
+pub mod scales;
+
+pub use per_scale::PerScale;
+pub use scales::Scales;
 
 /// Where a texture is looked up.
 #[derive(Clone, Copy, Debug, Default)]
@@ -20,6 +27,12 @@ pub enum SpectrumTexture {
         color0: Spectrum,
         color1: Spectrum,
         to_uv: Mat3,
+    },
+    /// `scales` read as a colour: `color0` on the scales, `color1` in the grooves.
+    Scales {
+        cells: Arc<Scales>,
+        color0: Spectrum,
+        color1: Spectrum,
     },
 }
 
@@ -45,6 +58,14 @@ impl SpectrumTexture {
                     color1.sample(wl)
                 }
             }
+            SpectrumTexture::Scales {
+                cells,
+                color0,
+                color1,
+            } => {
+                let m = cells.sample(tc.uv).groove;
+                color0.sample(wl) * (1.0 - m) + color1.sample(wl) * m
+            }
         }
     }
 
@@ -52,7 +73,8 @@ impl SpectrumTexture {
     pub fn max_value(&self) -> f32 {
         match self {
             SpectrumTexture::Constant(s) => s.max_value(),
-            SpectrumTexture::Checkerboard { color0, color1, .. } => {
+            SpectrumTexture::Checkerboard { color0, color1, .. }
+            | SpectrumTexture::Scales { color0, color1, .. } => {
                 color0.max_value().max(color1.max_value())
             }
         }
@@ -70,6 +92,10 @@ pub enum FloatTexture {
         color1: f32,
         to_uv: Mat3,
     },
+    /// `scales` read as a float: the height of the relief in [0, 1].
+    Scales(Arc<Scales>),
+    /// `per_scale`: a value per scale.
+    PerScale(PerScale),
 }
 
 impl FloatTexture {
@@ -89,6 +115,35 @@ impl FloatTexture {
                     *color1
                 }
             }
+            FloatTexture::Scales(s) => s.height(tc.uv, 0.0),
+            FloatTexture::PerScale(p) => p.eval(tc.uv),
+        }
+    }
+
+    /// Value seen through a footprint `footprint` UV units wide along u and v (detail finer
+    /// than that fades).
+    pub fn eval_filtered(&self, tc: &TexCoord, footprint: Vec2) -> f32 {
+        match self {
+            FloatTexture::Scales(s) => s.height(tc.uv, s.cells_across(footprint)),
+            _ => self.eval(tc),
+        }
+    }
+
+    /// Gradient with respect to (u, v), for bump mapping. Piecewise-constant textures
+    /// (checkerboard, per-scale values) have none.
+    pub fn gradient(&self, tc: &TexCoord, footprint: Vec2) -> Vec2 {
+        match self {
+            FloatTexture::Scales(s) => s.gradient(tc.uv, s.cells_across(footprint)),
+            _ => Vec2::ZERO,
+        }
+    }
+
+    /// The cell pattern behind this texture, if it has one (for per-scale normal tilts).
+    pub fn cells(&self) -> Option<&Scales> {
+        match self {
+            FloatTexture::Scales(s) => Some(s),
+            FloatTexture::PerScale(p) => Some(&p.cells),
+            _ => None,
         }
     }
 }

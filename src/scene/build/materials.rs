@@ -43,7 +43,10 @@ pub(crate) fn material_for(
     Ok(i)
 }
 
-fn build_material(node: &Node, warnings: &mut Vec<Warning>) -> Result<Material, SceneError> {
+pub(super) fn build_material(
+    node: &Node,
+    warnings: &mut Vec<Warning>,
+) -> Result<Material, SceneError> {
     let sr =
         |name: &str| spectrum_texture(node, name, SpectrumKind::Albedo, Spectrum::Constant(1.0));
     Ok(match node.plugin.as_str() {
@@ -138,6 +141,8 @@ fn build_material(node: &Node, warnings: &mut Vec<Warning>) -> Result<Material, 
         }
         "null" => Material::Null,
         film if super::thinfilm::is_film_plugin(film) => super::thinfilm::film_material(node)?,
+        "bumpmap" => super::scales::bumpmap(node, warnings)?,
+        "normalmap" => super::scales::normalmap(node, warnings)?,
         other => {
             warnings.push(Warning {
                 loc: node.loc.clone(),
@@ -242,6 +247,9 @@ fn uv_transform(node: &Node) -> Result<Mat3, SceneError> {
 }
 
 fn texture(tex: &Node, kind: SpectrumKind) -> Result<SpectrumTexture, SceneError> {
+    if super::scales::is_scales(&tex.plugin) {
+        return super::scales::scales_spectrum(tex, kind);
+    }
     match tex.plugin.as_str() {
         "checkerboard" => Ok(SpectrumTexture::Checkerboard {
             color0: spectrum(tex, "color0", kind, Spectrum::Constant(0.4))?,
@@ -250,7 +258,9 @@ fn texture(tex: &Node, kind: SpectrumKind) -> Result<SpectrumTexture, SceneError
         }),
         other => Err(SceneError::at(
             &tex.loc,
-            format!("texture '{other}' is not supported by ophis (supported: checkerboard)"),
+            format!(
+                "texture '{other}' is not supported by ophis (supported: checkerboard, scales)"
+            ),
         )),
     }
 }
@@ -262,6 +272,9 @@ pub(super) fn float_texture(
     default: f32,
 ) -> Result<FloatTexture, SceneError> {
     if let Some(tex) = node.child(name).filter(|c| c.tag == Tag::Texture) {
+        if let Some(t) = super::scales::scales_float(tex)? {
+            return Ok(t);
+        }
         return match tex.plugin.as_str() {
             "checkerboard" => {
                 let c0 = spectrum_opt(tex, "color0", SpectrumKind::Unbounded)?

@@ -3,6 +3,8 @@
 
 mod emitters;
 mod materials;
+mod procedural;
+mod scales;
 mod shapes;
 mod thinfilm;
 pub mod values;

@@ -36,6 +36,8 @@ pub(crate) fn add_shape(
         "disk" => Shape::Disk(crate::shape::Disk::new(&to_world, flip)),
         "rectangle" => Shape::Mesh(TriangleMesh::rectangle(&to_world, flip).map_err(|e| err(&e))?),
         "cube" => Shape::Mesh(TriangleMesh::cube(&to_world, flip).map_err(|e| err(&e))?),
+        "torus" => super::procedural::torus(node, &to_world, flip)?,
+        "snake" => super::procedural::snake(node, &to_world, flip)?,
         "obj" | "ply" => {
             let Some(path) = node.props.get_path_opt("filename")? else {
                 return Err(SceneError::at(

@@ -229,7 +229,10 @@ impl Reader {
         for child in parent.children() {
             if child.is_element() {
                 self.element(child, src, b, depth)?;
-            } else if let Some(t) = child.text().filter(|t| !t.trim().is_empty()) {
+            } else if let Some(t) = child
+                .text()
+                .filter(|t| child.is_text() && !t.trim().is_empty())
+            {
                 let msg = format!("text '{}' ignored (expected only elements)", t.trim());
                 self.warn(&src.loc(child.range().start), msg);
             }

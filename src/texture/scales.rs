@@ -1,0 +1,292 @@
+//! `scales`: procedural reptile scales — offset rows of hexagonal cells over UV space, with a
+//! groove between cells, a rounded (domed) top, a roof-tile rise towards the free edge, and a
+//! random number per cell.
+//!
+//! Model. UV is mapped to *cell space* (x, y) = (u·`scale_u`, v·`scale_v`), where the cell
+//! centres sit on the lattice (i + ½·(j mod 2), j) — rows one unit apart, every other row shifted
+//! by half a cell — each moved by a random jitter of at most ½·`irregularity` per axis. The cells
+//! are the Voronoi regions of those centres (Worley, "A Cellular Texture Basis Function",
+//! SIGGRAPH 1996): congruent hexagons when `irregularity` = 0, Voronoi-like polygons as it grows.
+//! The distance to the cell's edge is the distance to the nearest bisector between the nearest
+//! centre and its neighbours, so grooves have the same width everywhere; where two edges meet,
+//! a smooth minimum over a width `gap`/2 rounds the corner (at most `gap`/8 closer). Cell space has
+//! one cell per unit area, so a UV area A holds A·`scale_u`·`scale_v` cells.
+//!
+//! Height, in [0, 1]: `shoulder(e) · top(ρ) · tile(r)` with e the distance to the edge,
+//! shoulder = smoothstep(0, `gap`, e) (half height at e = gap/2, so the groove is `gap` wide at
+//! half height, measured in cells); top = 1 − `dome`·x(2 − x) with x = min(ρ², 1) and ρ the
+//! distance to the centre over 0.65 (≈ the hexagon's circumradius); tile = 1 − `overlap`·(1 − r)/2
+//! with r = s(3 − s²)/2, s ∈ [−1, 1] the clamped position along the overlap direction, so each
+//! scale rises towards its free edge (both saturate with zero slope, keeping the relief C¹). The
+//! shoulder has zero slope at the edge, so height and slope are continuous across cells; only
+//! `gap` = 0 leaves a step at the edges (intended: tiles laid edge to edge).
+//!
+//! Each cell draws, from a hash of its lattice index and `seed`, an id in [0, 1) (used by
+//! `per_scale`), its jitter, and a normal tilt of at most `tilt_degrees` (used by `bumpmap`).
+//! When `scale_u` (`scale_v`) is an integer the lattice indices wrap, so a closed surface with a
+//! seam at u = 0 ≡ 1 shows no seam; across v the rows also alternate, so v wraps cleanly only for
+//! an even integer `scale_v`.
+//!
+//! Filtering: there are no ray differentials yet. `sample_filtered` takes a footprint (the width
+//! a pixel covers, in cells): the groove is widened to at least a quarter of it, and between a
+//! footprint of ½ and 2 cells the relief fades to its mean, so scales smaller than a pixel fade
+//! out instead of aliasing. The bump path estimates the footprint from the camera (see
+//! `bsdf/bumpmap.rs`).
+//!
+//! | XML name       | type   | default | unit    | meaning                                          |
+//! |----------------|--------|---------|---------|--------------------------------------------------|
+//! | `scale_u`      | float  | 20      | 1/UV    | cells per unit u                                 |
+//! | `scale_v`      | float  | 20      | 1/UV    | rows per unit v                                  |
+//! | `irregularity` | float  | 0.3     | —       | 0 = regular hexagons … 1 = Voronoi-like jitter   |
+//! | `gap`          | float  | 0.08    | cells   | groove width at half height (`line_width` alias) |
+//! | `dome`         | float  | 0.5     | —       | 0 = flat top … 1 = fully rounded                 |
+//! | `overlap`      | float  | 0.3     | —       | 0 = symmetric … 1 = a ramp rising to the free edge |
+//! | `overlap_angle`| float  | 90      | degrees | direction of the free edge in cell space (0 = +u, 90 = +v) |
+//! | `tilt_degrees` | float  | 0       | degrees | largest random tilt of a scale's normal          |
+//! | `seed`         | integer| 0       | —       | changes the random numbers                       |
+//! | `color0`       | colour | 0.4     | —       | colour of the scales (colour lookups)            |
+//! | `color1`       | colour | 0.1     | —       | colour of the grooves (colour lookups)           |
+//!
+//! Accepted names: `scales`, and the seed's `reptileSkin` (with `color0`, `color1`, `lineWidth`,
+//! which 0.6 scenes upgrade to `line_width`, read as `gap`).
+//!
+//! Limits: the footprint estimate ignores anisotropy beyond the larger axis; cells are defined in
+//! UV space, so a parametrisation that stretches UV stretches the scales.
+
+use crate::math::Vec2;
+
+/// Parameters of the scale pattern (see the module header).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Scales {
+    pub scale_u: f32,
+    pub scale_v: f32,
+    pub irregularity: f32,
+    pub gap: f32,
+    pub dome: f32,
+    pub overlap: f32,
+    /// Unit direction of the free edge in cell space.
+    pub overlap_dir: Vec2,
+    /// Largest tilt of a scale's normal, radians.
+    pub tilt: f32,
+    pub seed: u32,
+}
+
+impl Default for Scales {
+    fn default() -> Scales {
+        Scales {
+            scale_u: 20.0,
+            scale_v: 20.0,
+            irregularity: 0.3,
+            gap: 0.08,
+            dome: 0.5,
+            overlap: 0.3,
+            overlap_dir: Vec2::new(0.0, 1.0),
+            tilt: 0.0,
+            seed: 0,
+        }
+    }
+}
+
+/// Everything the pattern knows at one point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ScaleSample {
+    /// Height in [0, 1].
+    pub height: f32,
+    /// Distance to the nearest cell edge, in cells.
+    pub edge_distance: f32,
+    /// The cell's random id in [0, 1).
+    pub id: f32,
+    /// The cell's lattice index (after wrapping).
+    pub cell: (i32, i32),
+    /// The cell's centre in cell space.
+    pub center: Vec2,
+    /// Groove mask: 1 in the groove, 0 on the scale.
+    pub groove: f32,
+}
+
+/// Circumradius of the regular cell, the unit of the dome profile.
+const CELL_RADIUS: f32 = 0.65;
+/// Mean height of the relief, what it fades to at a distance (measured over regular cells with
+/// the default dome; exact values matter little since only the relief's slope is seen).
+const FADE_LEVEL: f32 = 0.6;
+
+/// A 32-bit integer hash with good avalanche (xor-shift-multiply rounds).
+#[inline]
+fn mix(mut x: u32) -> u32 {
+    x ^= x >> 16;
+    x = x.wrapping_mul(0x7feb_352d);
+    x ^= x >> 15;
+    x = x.wrapping_mul(0x846c_a68b);
+    x ^= x >> 16;
+    x
+}
+
+/// Uniform [0, 1) from the top 24 bits.
+#[inline]
+fn unit(h: u32) -> f32 {
+    (h >> 8) as f32 * (1.0 / 16_777_216.0)
+}
+
+/// Polynomial smooth minimum: min(a, b) with the corner rounded over a width `k`.
+#[inline]
+fn smooth_min(a: f32, b: f32, k: f32) -> f32 {
+    let m = a.min(b);
+    if k <= 0.0 || !m.is_finite() {
+        return m;
+    }
+    let h = (k - (a - b).abs()).max(0.0) / k;
+    m - 0.25 * k * h * h
+}
+
+#[inline]
+fn smoothstep(e0: f32, e1: f32, x: f32) -> f32 {
+    if e1 <= e0 {
+        return if x < e0 { 0.0 } else { 1.0 };
+    }
+    let t = ((x - e0) / (e1 - e0)).clamp(0.0, 1.0);
+    t * t * (3.0 - 2.0 * t)
+}
+
+/// The period of an integer cell count (wrapping of lattice indices), or 0 for none.
+fn period(scale: f32) -> i32 {
+    let r = scale.round();
+    if (scale - r).abs() < 1e-3 && (1.0..1e6).contains(&r) {
+        r as i32
+    } else {
+        0
+    }
+}
+
+impl Scales {
+    /// How many cells a UV footprint (widths along u and v) spans, along its larger axis.
+    #[inline]
+    pub fn cells_across(&self, footprint: Vec2) -> f32 {
+        (footprint.x * self.scale_u).max(footprint.y * self.scale_v)
+    }
+
+    /// Cell space coordinates of a UV point.
+    #[inline]
+    pub fn to_cell_space(&self, uv: Vec2) -> Vec2 {
+        Vec2::new(uv.x * self.scale_u, uv.y * self.scale_v)
+    }
+
+    /// The wrapped lattice index and its hash.
+    #[inline]
+    fn cell_hash(&self, i: i32, j: i32) -> ((i32, i32), u32) {
+        let (pu, pv) = (period(self.scale_u), period(self.scale_v));
+        let wi = if pu > 0 { i.rem_euclid(pu) } else { i };
+        let wj = if pv > 0 { j.rem_euclid(pv) } else { j };
+        let h = mix(wi as u32 ^ mix(wj as u32 ^ mix(self.seed.wrapping_add(0x9e37_79b9))));
+        ((wi, wj), h)
+    }
+
+    /// Centre of lattice cell (i, j) in cell space (unwrapped, near the query point).
+    #[inline]
+    fn center(&self, i: i32, j: i32) -> (Vec2, u32, (i32, i32)) {
+        let (cell, h) = self.cell_hash(i, j);
+        let jx = unit(mix(h ^ 0x68e3_1da4)) - 0.5;
+        let jy = unit(mix(h ^ 0xb529_7a4d)) - 0.5;
+        let shift = if j.rem_euclid(2) == 1 { 0.5 } else { 0.0 };
+        let c = Vec2::new(i as f32 + shift, j as f32) + self.irregularity * Vec2::new(jx, jy);
+        (c, h, cell)
+    }
+
+    /// The pattern at a UV point, unfiltered.
+    pub fn sample(&self, uv: Vec2) -> ScaleSample {
+        self.sample_filtered(uv, 0.0)
+    }
+
+    /// The pattern at a UV point seen through a footprint `width` cells wide.
+    pub fn sample_filtered(&self, uv: Vec2, width: f32) -> ScaleSample {
+        let p = self.to_cell_space(uv);
+        let (j0, i0) = (p.y.round() as i32, p.x.floor() as i32);
+        // Nearest centre: with jitter ≤ ½ per axis, it lies within two rows and columns.
+        let mut best = (f32::INFINITY, Vec2::ZERO, 0u32, (0, 0), (0, 0));
+        for j in j0 - 2..=j0 + 2 {
+            for i in i0 - 2..=i0 + 2 {
+                let (c, h, cell) = self.center(i, j);
+                let d2 = (p - c).length_squared();
+                if d2 < best.0 {
+                    best = (d2, c, h, cell, (i, j));
+                }
+            }
+        }
+        let (_, c0, h0, cell, (bi, bj)) = best;
+        // Distance to the cell edge: the nearest bisector with a neighbour, with the corners
+        // rounded (a smooth minimum) so that the groove has no creases for the bump map to show.
+        let round = 0.5 * self.gap;
+        let (mut edge, mut second) = (f32::INFINITY, f32::INFINITY);
+        for j in bj - 2..=bj + 2 {
+            for i in bi - 2..=bi + 2 {
+                if (i, j) == (bi, bj) {
+                    continue;
+                }
+                let (c, _, _) = self.center(i, j);
+                let d = c - c0;
+                let len = d.length();
+                if len > 1e-6 {
+                    let e = (0.5 * (c0 + c) - p).dot(d / len);
+                    if e < edge {
+                        (edge, second) = (e, edge);
+                    } else if e < second {
+                        second = e;
+                    }
+                }
+            }
+        }
+        // Only the two nearest edges meet at a corner of the cell; taking just those keeps the
+        // result independent of the order the neighbours were visited in.
+        let edge = smooth_min(edge, second, round).max(0.0);
+        let gap = self.gap.max((0.25 * width).min(0.5));
+        let shoulder = smoothstep(0.0, gap, edge);
+        let q = (p - c0) / CELL_RADIUS;
+        // x(2 − x) and r(3 − r²)/2 saturate with zero slope, so the relief stays C¹.
+        let x = q.length_squared().min(1.0);
+        let top = 1.0 - self.dome * x * (2.0 - x);
+        let r = q.dot(self.overlap_dir).clamp(-1.0, 1.0);
+        let r = 0.5 * r * (3.0 - r * r);
+        let tile = 1.0 - self.overlap * 0.5 * (1.0 - r);
+        let relief = shoulder * top * tile;
+        let fade = smoothstep(0.5, 2.0, width);
+        ScaleSample {
+            height: relief + fade * (FADE_LEVEL - relief),
+            edge_distance: edge,
+            id: unit(h0),
+            cell,
+            center: c0,
+            groove: (1.0 - shoulder) * (1.0 - fade),
+        }
+    }
+
+    /// Height at a UV point (footprint `width` in cells).
+    #[inline]
+    pub fn height(&self, uv: Vec2, width: f32) -> f32 {
+        self.sample_filtered(uv, width).height
+    }
+
+    /// Gradient of the height with respect to (u, v), by central differences a thousandth of a
+    /// cell wide (the relief is C¹, so the difference converges).
+    pub fn gradient(&self, uv: Vec2, width: f32) -> Vec2 {
+        let hu = 1e-3 / self.scale_u;
+        let hv = 1e-3 / self.scale_v;
+        let du = self.height(uv + Vec2::new(hu, 0.0), width)
+            - self.height(uv - Vec2::new(hu, 0.0), width);
+        let dv = self.height(uv + Vec2::new(0.0, hv), width)
+            - self.height(uv - Vec2::new(0.0, hv), width);
+        Vec2::new(du / (2.0 * hu), dv / (2.0 * hv))
+    }
+
+    /// The random tilt of the scale at `uv`: (angle in radians, azimuth in radians measured in
+    /// the tangent plane from dp/du). Uniform over a cone of half-angle `tilt`.
+    pub fn tilt_at(&self, uv: Vec2) -> (f32, f32) {
+        let s = self.sample(uv);
+        let (_, h) = self.cell_hash(s.cell.0, s.cell.1);
+        let a = self.tilt * unit(mix(h ^ 0x1b87_3593)).sqrt();
+        let phi = 2.0 * std::f32::consts::PI * unit(mix(h ^ 0xcc9e_2d51));
+        (a, phi)
+    }
+}
+
+#[cfg(test)]
+#[path = "scales_tests.rs"]
+mod tests;

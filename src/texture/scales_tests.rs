@@ -1,0 +1,238 @@
+use super::*;
+use crate::math::Pcg32;
+use std::collections::HashMap;
+
+fn irregular() -> Scales {
+    Scales {
+        scale_u: 23.3,
+        scale_v: 17.7,
+        irregularity: 1.0,
+        seed: 11,
+        ..Scales::default()
+    }
+}
+
+#[test]
+fn cell_ids_are_stable_inside_a_cell_and_depend_on_the_seed() {
+    let s = irregular();
+    let mut rng = Pcg32::new(3, 5);
+    let step = 1e-3; // in cells
+    let mut checked = 0;
+    let mut changed_with_seed = 0;
+    let other = Scales {
+        seed: 12,
+        ..s.clone()
+    };
+    for _ in 0..4000 {
+        let uv = rng.next_vec2();
+        let a = s.sample(uv);
+        assert!((0.0..1.0).contains(&a.id));
+        if a.edge_distance < 3.0 * step {
+            continue;
+        }
+        checked += 1;
+        let d = Vec2::new(
+            (rng.next_f32() - 0.5) * 2.0 * step / s.scale_u,
+            (rng.next_f32() - 0.5) * 2.0 * step / s.scale_v,
+        );
+        let b = s.sample(uv + d);
+        assert_eq!(a.cell, b.cell, "cell changed inside a cell at {uv:?}");
+        assert_eq!(a.id, b.id);
+        assert_eq!(a.id, s.sample(uv).id, "same seed, same id");
+        if other.sample(uv).id != a.id {
+            changed_with_seed += 1;
+        }
+    }
+    assert!(checked > 3000);
+    assert!(changed_with_seed > checked * 9 / 10);
+}
+
+#[test]
+fn cell_count_per_area_matches_the_scales() {
+    for s in [
+        irregular(),
+        Scales {
+            irregularity: 0.0,
+            ..irregular()
+        },
+    ] {
+        // Find every cell whose centre lies in the UV square [0, 2)² by looking the pattern up on
+        // a grid a fifth of a cell apart.
+        let mut centres: HashMap<(i32, i32), Vec2> = HashMap::new();
+        let n = (2.0 * s.scale_u.max(s.scale_v) * 5.0) as usize + 10;
+        for a in 0..n {
+            for b in 0..n {
+                let uv = Vec2::new(
+                    -0.1 + 2.2 * a as f32 / n as f32,
+                    -0.1 + 2.2 * b as f32 / n as f32,
+                );
+                let x = s.sample(uv);
+                centres.insert(x.cell, x.center);
+            }
+        }
+        let inside = centres
+            .values()
+            .filter(|c| {
+                let uv = Vec2::new(c.x / s.scale_u, c.y / s.scale_v);
+                (0.0..2.0).contains(&uv.x) && (0.0..2.0).contains(&uv.y)
+            })
+            .count() as f32;
+        let expected = 4.0 * s.scale_u * s.scale_v;
+        let rel = (inside - expected).abs() / expected;
+        assert!(
+            rel < 0.03,
+            "irregularity {}: {inside} cells, expected {expected}",
+            s.irregularity
+        );
+    }
+}
+
+/// Largest slope of the height in cell space: shoulder 1.5/gap (smoothstep), dome 2/R, tile
+/// overlap/(2R), each times the other factors' maximum of 1.
+fn lipschitz(s: &Scales) -> f32 {
+    1.5 / s.gap + 2.0 * s.dome / CELL_RADIUS + s.overlap / (2.0 * CELL_RADIUS)
+}
+
+fn max_jump_ratio(s: &Scales, seed: u64) -> f32 {
+    let mut rng = Pcg32::new(seed, 1);
+    let step = 1e-3;
+    let mut worst: f32 = 0.0;
+    for _ in 0..20000 {
+        let uv = rng.next_vec2();
+        let dir = rng.next_f32() * std::f32::consts::TAU;
+        let d = Vec2::new(dir.cos() * step / s.scale_u, dir.sin() * step / s.scale_v);
+        let jump = (s.height(uv + d, 0.0) - s.height(uv, 0.0)).abs();
+        worst = worst.max(jump / (step * lipschitz(s)));
+    }
+    worst
+}
+
+#[test]
+fn height_is_continuous_with_a_gap_and_steps_without() {
+    let s = irregular();
+    let r = max_jump_ratio(&s, 7);
+    // Rounding in f32 cell coordinates (~30 cells, ulp 2e-6) adds at most a few percent.
+    assert!(r < 1.05, "height jumps {r} times the Lipschitz bound");
+    let flat = Scales {
+        gap: 0.0,
+        ..irregular()
+    };
+    // With gap = 0 the edges are steps: some pair straddling an edge must jump.
+    let mut rng = Pcg32::new(9, 2);
+    let mut steps = 0;
+    for _ in 0..20000 {
+        let uv = rng.next_vec2();
+        let d = Vec2::new(2e-3 / flat.scale_u, 0.0);
+        if (flat.height(uv + d, 0.0) - flat.height(uv, 0.0)).abs() > 0.1 {
+            steps += 1;
+        }
+    }
+    assert!(steps > 0, "gap = 0 must leave steps at the edges");
+    // Heights stay in [0, 1].
+    let mut rng = Pcg32::new(1, 1);
+    for _ in 0..2000 {
+        let h = s.height(rng.next_vec2(), 0.0);
+        assert!((0.0..=1.0).contains(&h), "{h}");
+    }
+}
+
+#[test]
+fn regular_scales_are_congruent_hexagons() {
+    let s = Scales {
+        irregularity: 0.0,
+        scale_u: 10.0,
+        scale_v: 8.0,
+        ..Scales::default()
+    };
+    let mut rng = Pcg32::new(4, 4);
+    let offsets: Vec<Vec2> = (0..200)
+        .map(|_| (rng.next_vec2() - Vec2::splat(0.5)) * 0.9)
+        .collect();
+    let profile = |c: Vec2| -> Vec<(f32, f32)> {
+        offsets
+            .iter()
+            .map(|o| {
+                let p = c + *o;
+                let x = s.sample(Vec2::new(p.x / s.scale_u, p.y / s.scale_v));
+                (x.edge_distance, x.height)
+            })
+            .collect()
+    };
+    // Cells in an even and an odd row (centres at integer and half-integer x).
+    let reference = profile(Vec2::new(3.0, 2.0));
+    for c in [
+        Vec2::new(5.0, 4.0),
+        Vec2::new(2.5, 3.0),
+        Vec2::new(7.5, 5.0),
+    ] {
+        for (a, b) in reference.iter().zip(profile(c)) {
+            assert!((a.0 - b.0).abs() < 1e-4 && (a.1 - b.1).abs() < 1e-4);
+        }
+    }
+    // The hexagon: vertical edges at x = ±½ (inradius ½), slanted edges at the bisectors of
+    // (±½, ±1), √1.25/2 from the centre; six vertices where they meet.
+    // (gap = 0: no corner rounding, so the distances are the exact ones.)
+    let sharp = Scales {
+        gap: 0.0,
+        ..s.clone()
+    };
+    let at = |p: Vec2| sharp.sample(Vec2::new(p.x / s.scale_u, p.y / s.scale_v));
+    assert!((at(Vec2::new(3.0, 2.0)).edge_distance - 0.5).abs() < 1e-4);
+    let slant = 1.25f32.sqrt() / 2.0;
+    let dir = Vec2::new(0.5, 1.0).normalize();
+    let d = at(Vec2::new(3.0, 2.0) + dir * (slant - 0.1)).edge_distance;
+    assert!((d - 0.1).abs() < 1e-4, "{d}");
+}
+
+#[test]
+fn integer_scales_wrap_without_a_seam() {
+    let s = Scales {
+        scale_u: 16.0,
+        scale_v: 12.0,
+        irregularity: 0.8,
+        ..Scales::default()
+    };
+    let mut rng = Pcg32::new(8, 8);
+    for _ in 0..500 {
+        let uv = rng.next_vec2();
+        let a = s.sample(uv);
+        let b = s.sample(uv + Vec2::new(1.0, 0.0));
+        let c = s.sample(uv + Vec2::new(0.0, 1.0));
+        assert!((a.height - b.height).abs() < 1e-4 && a.id == b.id);
+        assert!((a.height - c.height).abs() < 1e-4 && a.id == c.id);
+    }
+}
+
+#[test]
+fn footprint_fades_the_relief() {
+    let s = irregular();
+    let mut rng = Pcg32::new(2, 2);
+    for _ in 0..200 {
+        let uv = rng.next_vec2();
+        assert_eq!(s.height(uv, 2.0), FADE_LEVEL);
+        assert!(s.gradient(uv, 2.0).length() < 1e-3);
+        assert!(s.sample_filtered(uv, 2.0).groove == 0.0);
+    }
+}
+
+#[test]
+fn tilts_stay_in_their_cone_and_vary_per_cell() {
+    let s = Scales {
+        tilt: 10f32.to_radians(),
+        ..irregular()
+    };
+    let mut rng = Pcg32::new(5, 5);
+    let mut angles = Vec::new();
+    for _ in 0..300 {
+        let (a, phi) = s.tilt_at(rng.next_vec2());
+        assert!((0.0..=s.tilt).contains(&a) && (0.0..std::f32::consts::TAU).contains(&phi));
+        angles.push(a);
+    }
+    let mean = angles.iter().sum::<f32>() / angles.len() as f32;
+    // Uniform over the cone's disc: mean angle 2/3 of the largest.
+    assert!(
+        (mean / s.tilt - 2.0 / 3.0).abs() < 0.06,
+        "{}",
+        mean / s.tilt
+    );
+}
