@@ -164,8 +164,8 @@ fn basis() -> &'static DaylightBasis {
         for l in 360..=830 {
             let ybar = xyz_bar(l as f32)[1];
             let v = b.eval(l as f32);
-            for i in 0..3 {
-                b.y[i] += v[i] * ybar;
+            for (y, s) in b.y.iter_mut().zip(v) {
+                *y += s * ybar;
             }
         }
         b
@@ -228,7 +228,7 @@ impl PreethamSky {
     /// `None` when the sun is below the horizon, where the model does not apply.
     pub fn new(t: f32, sun: Vec3) -> Option<PreethamSky> {
         let sun = sun.normalize_or_zero();
-        if sun.y <= 0.0 || !(t > 0.0) {
+        if sun.y <= 0.0 || t.is_nan() || t <= 0.0 {
             return None;
         }
         let theta_s = crate::math::safe_acos(sun.y);

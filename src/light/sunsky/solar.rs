@@ -57,8 +57,8 @@ pub fn julian_day(year: i32, month: u32, day: f64) -> f64 {
 /// `jd` (Meeus ch. 25, low accuracy, and ch. 28 eq. 28.3).
 pub fn declination_and_equation_of_time(jd: f64) -> (f64, f64) {
     let t = (jd - 2_451_545.0) / 36_525.0;
-    let l0 = (280.46646 + t * (36_000.76983 + 0.0003032 * t)).rem_euclid(360.0);
-    let m = 357.52911 + t * (35_999.05029 - 0.0001537 * t);
+    let l0 = (280.46646 + t * (36_000.769_83 + 0.0003032 * t)).rem_euclid(360.0);
+    let m = 357.52911 + t * (35_999.050_29 - 0.0001537 * t);
     let e = 0.016708634 - t * (0.000042037 + 0.0000001267 * t);
     let mr = m.to_radians();
     let center = mr.sin() * (1.914602 - t * (0.004817 + 0.000014 * t))

@@ -121,7 +121,7 @@ impl SunLight {
         }
         let true_alpha = SUN_ANGULAR_RADIUS_DEG.to_radians();
         let true_omega = 4.0 * PI as f64 * (0.5 * true_alpha).sin().powi(2);
-        let delta = !(radius_scale > 0.0);
+        let delta = radius_scale.is_nan() || radius_scale <= 0.0;
         let alpha = true_alpha * radius_scale.max(0.0) as f64;
         // 1 − cos α = 2 sin²(α/2), accurate for the sun's tiny α, unlike 1 − cos in f32.
         let one_minus_cos = 2.0 * (0.5 * alpha).sin().powi(2);
