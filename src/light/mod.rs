@@ -1,5 +1,5 @@
-//! Light sources: point, directional, constant environment, image-based environment map and
-//! diffuse area lights, with Mitsuba 3's plugin names and parameters, and the light sampler.
+//! Light sources: point, directional, constant environment, image-based environment map,
+//! daylight (sun and sky) and diffuse area lights, with Mitsuba 3's plugin names and parameters, and the light sampler.
 //!
 //! Every light answers the same questions for next-event estimation with multiple importance
 //! sampling: `sample_li` draws a direction towards the light from a shading point, `pdf_li` gives
@@ -12,6 +12,7 @@ pub mod directional;
 pub mod distribution;
 pub mod envmap;
 pub mod point;
+pub mod sunsky;
 
 pub use area::AreaLight;
 pub use constant::ConstantLight;
@@ -19,6 +20,7 @@ pub use directional::DirectionalLight;
 pub use distribution::{Distribution1D, Distribution2D, LightSampler};
 pub use envmap::{EnvMapError, EnvMapLight};
 pub use point::PointLight;
+pub use sunsky::{SkyLight, SunLight};
 
 use crate::math::{Bounds3, Vec2, Vec3};
 use crate::shape::{Shape, SurfaceInteraction};
@@ -59,6 +61,10 @@ pub enum Light {
     Constant(ConstantLight),
     EnvMap(EnvMapLight),
     Area(AreaLight),
+    /// Preetham's clear sky (`sunsky`, `sky`).
+    Sky(SkyLight),
+    /// The solar disk (`sunsky`, `sun`).
+    Sun(SunLight),
 }
 
 impl Light {
@@ -76,6 +82,8 @@ impl Light {
             Light::Constant(l) => l.sample_li(ctx, u, wl),
             Light::EnvMap(l) => l.sample_li(ctx, u, wl),
             Light::Area(l) => l.sample_li(ctx, u, wl, shapes),
+            Light::Sky(l) => l.sample_li(ctx, u, wl),
+            Light::Sun(l) => l.sample_li(ctx, u, wl),
         }
     }
 
@@ -94,6 +102,8 @@ impl Light {
             Light::Constant(l) => l.pdf_li(ctx, wi),
             Light::EnvMap(l) => l.pdf_li(wi),
             Light::Area(l) => hit.map_or(0.0, |h| l.pdf_li(ctx, h, shapes)),
+            Light::Sky(l) => l.pdf_li(wi),
+            Light::Sun(l) => l.pdf_li(wi),
         }
     }
 
@@ -102,6 +112,8 @@ impl Light {
         match self {
             Light::Constant(l) => l.le(wl),
             Light::EnvMap(l) => l.le(dir, wl),
+            Light::Sky(l) => l.le(dir, wl),
+            Light::Sun(l) => l.le(dir, wl),
             _ => SampledSpectrum::ZERO,
         }
     }
@@ -116,14 +128,22 @@ impl Light {
 
     /// Whether the light is a delta distribution in position or direction.
     pub fn is_delta(&self) -> bool {
-        matches!(self, Light::Point(_) | Light::Directional(_))
+        match self {
+            Light::Point(_) | Light::Directional(_) => true,
+            Light::Sun(l) => l.is_delta(),
+            _ => false,
+        }
     }
 
     /// Whether the light is at infinity (seen by escaping rays).
     pub fn is_infinite(&self) -> bool {
         matches!(
             self,
-            Light::Directional(_) | Light::Constant(_) | Light::EnvMap(_)
+            Light::Directional(_)
+                | Light::Constant(_)
+                | Light::EnvMap(_)
+                | Light::Sky(_)
+                | Light::Sun(_)
         )
     }
 
@@ -135,6 +155,8 @@ impl Light {
             Light::Directional(l) => l.set_scene_sphere(c, r),
             Light::Constant(l) => l.set_scene_sphere(c, r),
             Light::EnvMap(l) => l.set_scene_sphere(c, r),
+            Light::Sky(l) => l.set_scene_sphere(c, r),
+            Light::Sun(l) => l.set_scene_sphere(c, r),
             Light::Point(_) | Light::Area(_) => {}
         }
     }
@@ -148,6 +170,8 @@ impl Light {
             Light::Constant(l) => l.power(),
             Light::EnvMap(l) => l.power(),
             Light::Area(l) => l.power(shapes),
+            Light::Sky(l) => l.power(),
+            Light::Sun(l) => l.power(),
         }
     }
 }
