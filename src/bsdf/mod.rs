@@ -7,10 +7,12 @@
 //! `f · |cos θi| / pdf`. Delta lobes return `pdf = 1` with `f` holding the lobe's weight divided by
 //! `|cos θi|`, and are never returned by `f`/`pdf`.
 
+pub mod absorption;
 pub mod conductor;
 pub mod dielectric;
 pub mod diffuse;
 pub mod fresnel;
+pub mod layered;
 pub mod material;
 pub mod microfacet;
 pub mod plastic;
@@ -136,6 +138,9 @@ pub enum Bxdf {
     RoughConductor(roughconductor::RoughConductorBxdf),
     Plastic(plastic::PlasticBxdf),
     RoughPlastic(roughplastic::RoughPlasticBxdf),
+    Absorption(absorption::AbsorptionBxdf),
+    /// `multilayered` (boxed: it holds its interfaces inline).
+    Layered(Box<layered::LayeredBxdf>),
     /// Absorbs everything (e.g. the back of a one-sided surface, or `null`).
     Black,
 }
@@ -151,6 +156,8 @@ macro_rules! dispatch {
             Bxdf::RoughConductor($b) => $e,
             Bxdf::Plastic($b) => $e,
             Bxdf::RoughPlastic($b) => $e,
+            Bxdf::Absorption($b) => $e,
+            Bxdf::Layered($b) => $e,
             Bxdf::Black => $black,
         }
     };
