@@ -77,7 +77,7 @@ impl AbsorptionBxdf {
         }
         let wi = warp::square_to_cosine_hemisphere(u);
         let pdf = warp::square_to_cosine_hemisphere_pdf(wi);
-        if !(pdf > 0.0) {
+        if pdf.is_nan() || pdf <= 0.0 {
             return None;
         }
         let f = self.f(wo, wi, mode, rng);

@@ -297,7 +297,7 @@ impl CoatedDiffuse {
             let t_bar = 1.0 - self.coat.outside(wi.z).average();
             if wi.z > 0.0 && rng.next_f32() < t_bar {
                 let pdf = self.pdf(wo, wi, mode, rng);
-                if !(pdf > 0.0) {
+                if pdf.is_nan() || pdf <= 0.0 {
                     return None;
                 }
                 let f = self.f(wo, wi, mode, rng);

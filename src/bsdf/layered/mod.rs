@@ -31,6 +31,8 @@
 pub mod closed_form;
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_walk;
 pub mod walk;
 
 use super::{BsdfSample, Bxdf, BxdfFlags, TransportMode};
@@ -41,6 +43,8 @@ pub use walk::{Medium, Stack, DEFAULT_MAX_DEPTH, MAX_INTERFACES};
 use crate::spectrum::SampledSpectrum;
 
 /// A layered BSDF: the closed form or the random walk.
+// One allocation per shading point either way: `Bxdf::Layered` boxes the whole enum.
+#[allow(clippy::large_enum_variant)]
 #[derive(Clone, Debug)]
 pub enum LayeredBxdf {
     Closed(CoatedDiffuse),

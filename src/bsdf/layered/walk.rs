@@ -130,20 +130,30 @@ fn adjoint(mode: TransportMode) -> TransportMode {
     }
 }
 
-/// Russian roulette on the throughput; false: the path dies.
-fn roulette(beta: &mut SampledSpectrum, depth: u32, rng: &mut Pcg32) -> bool {
+/// Russian roulette on the throughput times `scale` (the η² radiance factors undone, so that
+/// crossing into a denser layer is not mistaken for a loss); false: the path dies.
+fn roulette(beta: &mut SampledSpectrum, scale: f32, depth: u32, rng: &mut Pcg32) -> bool {
     if depth < 4 {
         return !beta.is_black();
     }
-    let q = beta.max_value();
+    let q = beta.max_value() * scale;
     if q >= 1.0 {
         return true;
     }
-    if !(q > 0.0) || rng.next_f32() >= q {
+    if (q.is_nan() || q <= 0.0) || rng.next_f32() >= q {
         return false;
     }
     *beta /= q;
     true
+}
+
+/// The factor that undoes the radiance-mode 1/η′² of a transmission sample.
+fn eta_factor(bs: &crate::bsdf::BsdfSample, mode: TransportMode) -> f32 {
+    if mode == TransportMode::Radiance && bs.is_transmission() && bs.eta > 0.0 {
+        bs.eta * bs.eta
+    } else {
+        1.0
+    }
 }
 
 impl Stack {
@@ -241,7 +251,7 @@ impl Stack {
         let mut k = if wo.z > 0.0 { 0 } else { self.n - 1 };
         let mut w_o = wo;
         let mut beta = SampledSpectrum::ONE;
-        let (mut all_delta, mut eta) = (true, 1.0f32);
+        let (mut all_delta, mut eta, mut rr) = (true, 1.0f32, 1.0f32);
         let mut depth = 0u32;
         while depth < self.max_depth {
             let (uc_k, u_k) = if depth == 0 {
@@ -250,11 +260,12 @@ impl Stack {
                 (rng.next_f32(), rng.next_vec2())
             };
             let bs = self.interfaces[k].sample_f(w_o, uc_k, u_k, mode, rng)?;
-            if !(bs.pdf > 0.0) || bs.wi.z == 0.0 {
+            if (bs.pdf.is_nan() || bs.pdf <= 0.0) || bs.wi.z == 0.0 {
                 return None;
             }
             beta *= bs.f * (bs.wi.z.abs() / bs.pdf);
             all_delta &= bs.is_specular();
+            rr *= eta_factor(&bs, mode);
             if bs.is_transmission() {
                 eta *= bs.eta;
             }
@@ -268,14 +279,14 @@ impl Stack {
                 z = zs;
                 dir = hg_sample(dir, self.media[layer].g, rng).0;
                 depth += 1;
-                if depth >= self.max_depth || !roulette(&mut beta, depth, rng) {
+                if depth >= self.max_depth || !roulette(&mut beta, rr, depth, rng) {
                     return None;
                 }
             }
             k = if dir.z < 0.0 { layer + 1 } else { layer };
             w_o = -dir;
             depth += 1;
-            if !roulette(&mut beta, depth, rng) {
+            if !roulette(&mut beta, rr, depth, rng) {
                 return None;
             }
         }
@@ -288,10 +299,10 @@ impl Stack {
         let mut k = if wi.z > 0.0 { 0 } else { self.n - 1 };
         let mut w = wi;
         let mut beta = SampledSpectrum::ONE;
-        let (mut pdf_e, mut delta_e) = (0.0, true);
+        let (mut pdf_e, mut delta_e, mut rr) = (0.0, true, 1.0f32);
         for len in 1..=self.max_depth {
             let bs = self.interfaces[k].sample_f(w, rng.next_f32(), rng.next_vec2(), adj, rng)?;
-            if !(bs.pdf > 0.0) || bs.wi.z == 0.0 {
+            if (bs.pdf.is_nan() || bs.pdf <= 0.0) || bs.wi.z == 0.0 {
                 return None;
             }
             if len == 1 {
@@ -302,6 +313,7 @@ impl Stack {
                 delta_e = bs.is_specular();
             }
             beta *= bs.f * (bs.wi.z.abs() / bs.pdf);
+            rr *= eta_factor(&bs, adj);
             let d = bs.wi;
             let layer = self.layer_of(k, d)?;
             let target = if d.z < 0.0 { layer + 1 } else { layer };
@@ -319,7 +331,7 @@ impl Stack {
             beta *= self.media[layer].tr(1.0 / d.z.abs());
             k = target;
             w = -d;
-            if !roulette(&mut beta, len, rng) {
+            if !roulette(&mut beta, rr, len, rng) {
                 return None;
             }
         }
@@ -353,7 +365,7 @@ impl Stack {
         let mut k = ent;
         let mut w_o = wo;
         let mut beta = SampledSpectrum::ONE;
-        let mut depth = 0u32;
+        let (mut depth, mut rr) = (0u32, 1.0f32);
         while depth < self.max_depth {
             let b = &self.interfaces[k];
             if k == ch.target {
@@ -371,10 +383,14 @@ impl Stack {
             let Some(bs) = b.sample_f(w_o, rng.next_f32(), rng.next_vec2(), mode, rng) else {
                 break;
             };
-            if !(bs.pdf > 0.0) || bs.wi.z == 0.0 || (depth == 0 && !bs.is_transmission()) {
+            if (bs.pdf.is_nan() || bs.pdf <= 0.0)
+                || bs.wi.z == 0.0
+                || (depth == 0 && !bs.is_transmission())
+            {
                 break;
             }
             beta *= bs.f * (bs.wi.z.abs() / bs.pdf);
+            rr *= eta_factor(&bs, mode);
             let mut dir = bs.wi;
             let Some(layer) = self.layer_of(k, dir) else {
                 break;
@@ -399,7 +415,7 @@ impl Stack {
                 dir = d2;
                 p_dir = Some(p2);
                 depth += 1;
-                if depth >= self.max_depth || !roulette(&mut beta, depth, rng) {
+                if depth >= self.max_depth || !roulette(&mut beta, rr, depth, rng) {
                     alive = false;
                     break;
                 }
@@ -422,7 +438,7 @@ impl Stack {
             k = k_next;
             w_o = -dir;
             depth += 1;
-            if !roulette(&mut beta, depth, rng) {
+            if !roulette(&mut beta, rr, depth, rng) {
                 break;
             }
         }
