@@ -66,14 +66,14 @@ impl LayeredBxdf {
     /// The stack, in closed form when `allow_closed` and the stack is a smooth coat over a
     /// non-scattering medium over a Lambertian base; `None` for a wrong number of layers.
     pub fn new(
-        interfaces: Vec<Bxdf>,
+        interfaces: impl IntoIterator<Item = Bxdf>,
         media: &[Medium],
         max_depth: u32,
         allow_closed: bool,
     ) -> Option<LayeredBxdf> {
-        if allow_closed && interfaces.len() == 2 && media.len() == 1 && !media[0].scatters() {
-            if let (Some(coat), Bxdf::Diffuse(base)) = (coat_optics(&interfaces[0]), &interfaces[1])
-            {
+        let (ifs, n) = walk::inline_interfaces(interfaces)?;
+        if allow_closed && n == 2 && media.len() == 1 && !media[0].scatters() {
+            if let (Some(coat), Bxdf::Diffuse(base)) = (coat_optics(&ifs[0]), &ifs[1]) {
                 return Some(LayeredBxdf::Closed(CoatedDiffuse::new(
                     coat,
                     base.r,
@@ -81,7 +81,7 @@ impl LayeredBxdf {
                 )));
             }
         }
-        Stack::new(interfaces, media, max_depth).map(LayeredBxdf::Walk)
+        Stack::from_parts(ifs, n, media, max_depth).map(LayeredBxdf::Walk)
     }
 
     /// Lobe flags.

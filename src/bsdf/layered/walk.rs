@@ -118,6 +118,23 @@ struct Chain {
     mis: bool,
 }
 
+/// Up to [`MAX_INTERFACES`] interfaces in inline storage (rest `Black`) and their count;
+/// `None` if there are more.
+pub(crate) fn inline_interfaces(
+    it: impl IntoIterator<Item = Bxdf>,
+) -> Option<([Bxdf; MAX_INTERFACES], usize)> {
+    let mut it = it.into_iter();
+    let mut n = 0;
+    let arr = std::array::from_fn(|_| match it.next() {
+        Some(b) => {
+            n += 1;
+            b
+        }
+        None => Bxdf::Black,
+    });
+    it.next().is_none().then_some((arr, n))
+}
+
 fn is_delta_only(b: &Bxdf) -> bool {
     let f = b.flags();
     f.is_specular() && !f.is_non_specular()
@@ -159,14 +176,27 @@ fn eta_factor(bs: &crate::bsdf::BsdfSample, mode: TransportMode) -> f32 {
 impl Stack {
     /// A stack of `interfaces` (top first, 2 ≤ n ≤ [`MAX_INTERFACES`]) and the n − 1 `media`
     /// between them; `None` for a wrong count.
-    pub fn new(interfaces: Vec<Bxdf>, media: &[Medium], max_depth: u32) -> Option<Stack> {
-        let n = interfaces.len();
+    pub fn new(
+        interfaces: impl IntoIterator<Item = Bxdf>,
+        media: &[Medium],
+        max_depth: u32,
+    ) -> Option<Stack> {
+        let (interfaces, n) = inline_interfaces(interfaces)?;
+        Stack::from_parts(interfaces, n, media, max_depth)
+    }
+
+    /// A stack from inline storage holding `n` interfaces.
+    pub(crate) fn from_parts(
+        interfaces: [Bxdf; MAX_INTERFACES],
+        n: usize,
+        media: &[Medium],
+        max_depth: u32,
+    ) -> Option<Stack> {
         if !(2..=MAX_INTERFACES).contains(&n) || media.len() != n - 1 {
             return None;
         }
-        let mut it = interfaces.into_iter();
         Some(Stack {
-            interfaces: std::array::from_fn(|_| it.next().unwrap_or(Bxdf::Black)),
+            interfaces,
             media: std::array::from_fn(|i| {
                 media
                     .get(i)

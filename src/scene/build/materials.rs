@@ -43,7 +43,8 @@ pub(crate) fn material_for(
     Ok(i)
 }
 
-fn build_material(node: &Node, warnings: &mut Vec<Warning>) -> Result<Material, SceneError> {
+/// The material a `<bsdf>` node describes (nested BSDFs and textures included).
+pub fn build_material(node: &Node, warnings: &mut Vec<Warning>) -> Result<Material, SceneError> {
     let sr =
         |name: &str| spectrum_texture(node, name, SpectrumKind::Albedo, Spectrum::Constant(1.0));
     Ok(match node.plugin.as_str() {
@@ -137,6 +138,8 @@ fn build_material(node: &Node, warnings: &mut Vec<Warning>) -> Result<Material, 
             }
         }
         "null" => Material::Null,
+        "multilayered" => super::layered::multilayered(node, warnings)?,
+        "absorption" | "Absorption" => super::layered::absorption(node)?,
         other => {
             warnings.push(Warning {
                 loc: node.loc.clone(),
