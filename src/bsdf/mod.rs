@@ -12,6 +12,7 @@ pub mod conductor;
 pub mod dielectric;
 pub mod diffuse;
 pub mod fresnel;
+pub mod inspect;
 pub mod layered;
 pub mod material;
 pub mod microfacet;

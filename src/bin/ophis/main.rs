@@ -1,5 +1,6 @@
 //! The `ophis` command line: one subcommand per file beside this one.
 
+mod bsdf;
 mod render;
 
 use clap::{Parser, Subcommand};
@@ -17,12 +18,15 @@ struct Cli {
 enum Command {
     /// Render a Mitsuba XML scene to EXR (linear sRGB, float32) and PNG (sRGB, 8-bit).
     Render(render::RenderArgs),
+    /// Inspect one BSDF of a scene: directional albedo and f·cos with standard errors.
+    Bsdf(bsdf::BsdfArgs),
 }
 
 fn main() {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Render(args) => render::run(args),
+        Command::Bsdf(args) => bsdf::run(args),
     };
     if let Err(e) = result {
         eprintln!("error: {e:#}");

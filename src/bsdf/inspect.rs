@@ -1,0 +1,179 @@
+//! Looking inside one BSDF of a scene (the logic of `ophis bsdf`): find a `<bsdf>` by id, build
+//! its material, and estimate its directional albedo or f·cos for a direction pair, per
+//! wavelength or as a linear-sRGB colour (reflectance under D65), with standard errors.
+//!
+//! Directions follow [`super::testing::direction`]: the incident direction is at polar angle
+//! θi in the plane φ = 0, the outgoing one at (θo, φo); θ < 0 means below the surface.
+
+use super::testing::{direction, Estimate};
+use super::{Material, TransportMode};
+use crate::math::Pcg32;
+use crate::scene::mitsuba::{Node, Tag};
+use crate::spectrum::{cie, SampledWavelengths, LAMBDA_MAX, LAMBDA_MIN, N};
+use crate::texture::TexCoord;
+use std::sync::Arc;
+
+/// The `<bsdf>` node with this id anywhere in the tree (depth first).
+pub fn find_bsdf<'a>(root: &'a Node, id: &str) -> Option<&'a Arc<Node>> {
+    for c in &root.children {
+        if c.node.tag == Tag::Bsdf && c.node.id.as_deref() == Some(id) {
+            return Some(&c.node);
+        }
+        if let Some(n) = find_bsdf(&c.node, id) {
+            return Some(n);
+        }
+    }
+    None
+}
+
+/// Ids of every `<bsdf>` in the tree, for error messages.
+pub fn bsdf_ids(root: &Node) -> Vec<String> {
+    let mut out = Vec::new();
+    fn visit(n: &Node, out: &mut Vec<String>) {
+        for c in &n.children {
+            if c.node.tag == Tag::Bsdf {
+                if let Some(id) = &c.node.id {
+                    if !out.contains(id) {
+                        out.push(id.clone());
+                    }
+                }
+            }
+            visit(&c.node, out);
+        }
+    }
+    visit(root, &mut out);
+    out
+}
+
+/// What to estimate for one sample of the BSDF at given wavelengths.
+#[derive(Clone, Copy, Debug)]
+pub enum Quantity {
+    /// Directional albedo for incidence at θi (degrees): mean of f·|cos|/pdf under sampling.
+    Albedo { theta_i: f32 },
+    /// f(wo, wi)·|cos θo| at the given angles (degrees).
+    Eval {
+        theta_i: f32,
+        theta_o: f32,
+        phi_o: f32,
+    },
+}
+
+fn one_sample(m: &Material, q: Quantity, wl: &SampledWavelengths, rng: &mut Pcg32) -> [f32; N] {
+    let (bxdf, two_sided) = m.eval(&TexCoord::default(), wl, true);
+    let flip = |mut w: crate::math::Vec3| {
+        if two_sided && w.z < 0.0 {
+            w.z = -w.z;
+        }
+        w
+    };
+    let mode = TransportMode::Radiance;
+    match q {
+        Quantity::Albedo { theta_i } => {
+            let wo = flip(direction(theta_i, 0.0));
+            let (uc, u) = (rng.next_f32(), rng.next_vec2());
+            match bxdf.sample_f(wo, uc, u, mode, rng) {
+                Some(bs) if bs.pdf > 0.0 => (bs.f * (bs.wi.z.abs() / bs.pdf)).0,
+                _ => [0.0; N],
+            }
+        }
+        Quantity::Eval {
+            theta_i,
+            theta_o,
+            phi_o,
+        } => {
+            let wo = direction(theta_i, 0.0);
+            let wi = direction(theta_o, phi_o.to_radians());
+            let s = if two_sided && wo.z < 0.0 { -1.0 } else { 1.0 };
+            let (wo, wi) = (
+                crate::math::Vec3::new(wo.x, wo.y, wo.z * s),
+                crate::math::Vec3::new(wi.x, wi.y, wi.z * s),
+            );
+            (bxdf.f(wo, wi, mode, rng) * wi.z.abs()).0
+        }
+    }
+}
+
+fn estimate(s: f64, s2: f64, n: usize) -> Estimate {
+    let nf = n as f64;
+    let mean = s / nf;
+    Estimate {
+        mean,
+        std_err: ((s2 / nf - mean * mean).max(0.0) / (nf - 1.0).max(1.0)).sqrt(),
+    }
+}
+
+/// The quantity at one wavelength (nm), from `n` samples.
+pub fn at_wavelength(m: &Material, q: Quantity, lambda: f32, n: usize, seed: u64) -> Estimate {
+    let wl = SampledWavelengths::fixed([lambda; N]);
+    let mut rng = Pcg32::new(seed, 0xb5df);
+    let (mut s, mut s2) = (0.0, 0.0);
+    for _ in 0..n {
+        let v = one_sample(m, q, &wl, &mut rng)[0] as f64;
+        s += v;
+        s2 += v * v;
+    }
+    estimate(s, s2, n)
+}
+
+/// The quantity as a linear-sRGB reflectance colour: ∫ value(λ) D65(λ) x̄ȳz̄(λ) dλ over
+/// ∫ D65 ȳ, by Monte Carlo over hero wavelengths drawn uniformly; `n` samples.
+pub fn linear_srgb(m: &Material, q: Quantity, n: usize, seed: u64) -> [Estimate; 3] {
+    let mut rng = Pcg32::new(seed, 0x5e6b);
+    let range = LAMBDA_MAX - LAMBDA_MIN;
+    // Normalisation: ∫ D65 ȳ dλ (1 nm midpoint rule).
+    let norm: f64 = (0..range as usize)
+        .map(|i| {
+            let l = LAMBDA_MIN + i as f32 + 0.5;
+            (cie::d65(l) * cie::xyz_bar(l)[1]) as f64
+        })
+        .sum();
+    let (mut s, mut s2) = ([0.0f64; 3], [0.0f64; 3]);
+    for _ in 0..n {
+        let wl = SampledWavelengths::sample_uniform(rng.next_f32());
+        let v = one_sample(m, q, &wl, &mut rng);
+        let mut xyz = [0.0f32; 3];
+        for (j, &l) in wl.lambda.iter().enumerate() {
+            let b = cie::xyz_bar(l);
+            let w = v[j] * cie::d65(l) * range / N as f32;
+            for c in 0..3 {
+                xyz[c] += w * b[c];
+            }
+        }
+        let rgb = cie::xyz_to_linear_srgb(xyz.map(|x| x / norm as f32));
+        for c in 0..3 {
+            s[c] += rgb[c] as f64;
+            s2[c] += (rgb[c] as f64).powi(2);
+        }
+    }
+    std::array::from_fn(|c| estimate(s[c], s2[c], n))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::spectrum::Spectrum;
+    use crate::texture::SpectrumTexture;
+
+    #[test]
+    fn white_lambertian_is_white_with_unit_albedo() {
+        let m = Material::diffuse(SpectrumTexture::Constant(Spectrum::Constant(1.0)));
+        let q = Quantity::Albedo { theta_i: 30.0 };
+        let e = at_wavelength(&m, q, 550.0, 1000, 1);
+        assert!((e.mean - 1.0).abs() < 1e-5);
+        for c in linear_srgb(&m, q, 20_000, 2) {
+            assert!((c.mean - 1.0).abs() <= 4.0 * c.std_err + 0.01, "{c:?}");
+        }
+        let f = at_wavelength(
+            &m,
+            Quantity::Eval {
+                theta_i: 0.0,
+                theta_o: 60.0,
+                phi_o: 0.0,
+            },
+            500.0,
+            10,
+            3,
+        );
+        assert!((f.mean - 0.5 / std::f64::consts::PI).abs() < 1e-6);
+    }
+}
