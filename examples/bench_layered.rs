@@ -61,8 +61,10 @@ fn main() {
         // New wavelengths every time, as in a render (no memo hits).
         let l = 400.0 + 0.1 * i as f32;
         let f = CoatOptics::Film {
+            eta: 1.5,
+            film_ior: 1.56,
+            thickness_nm: 300.0,
             lambda: [l, l + 70.0, l + 140.0, l + 210.0],
-            ..film
         };
         black_box(CoatedDiffuse::new(f, s(0.5), s(1.4)));
     });
