@@ -19,6 +19,8 @@ pub mod light;
 pub mod math;
 /// Wave optics: exact thin-film interference.
 pub mod optics;
+/// Raster plotting for PNG figures: canvas, bitmap font, charts.
+pub mod plot;
 /// The render loop over tiles.
 pub mod render;
 /// Sample generators.
