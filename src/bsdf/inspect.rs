@@ -148,6 +148,99 @@ pub fn linear_srgb(m: &Material, q: Quantity, n: usize, seed: u64) -> [Estimate;
     std::array::from_fn(|c| estimate(s[c], s2[c], n))
 }
 
+/// Figures of the BSDF at wavelength `lambda`: a polar plot of f·cos θo in the plane of
+/// incidence for θi = 0°, 30°, 60°, 75° (angles > 0 on the mirror side), and an image of f·cos θo
+/// over the hemisphere (disc of sin θo, seen from above) for incidence at `theta_i`.
+/// `samples` is spent over all points; returns (polar, hemisphere) canvases.
+pub fn plots(
+    m: &Material,
+    lambda: f32,
+    theta_i: f32,
+    samples: usize,
+    seed: u64,
+) -> (crate::plot::Canvas, crate::plot::Canvas) {
+    use crate::plot::{color_map, heat, PolarChart};
+    let per_point = (samples / 360).max(8);
+    let mut chart = PolarChart::new(
+        &format!("BSDF lobes in the plane of incidence, {lambda} nm"),
+        "f·cos θo",
+    );
+    for (k, ti) in [0.0f32, 30.0, 60.0, 75.0].into_iter().enumerate() {
+        let pts = (-44..=44)
+            .map(|j| {
+                let a = 2.0 * j as f32;
+                let q = Quantity::Eval {
+                    theta_i: ti,
+                    theta_o: a.abs(),
+                    phi_o: if a >= 0.0 { 180.0 } else { 0.0 },
+                };
+                let e = at_wavelength(
+                    m,
+                    q,
+                    lambda,
+                    per_point,
+                    seed.wrapping_add(k as u64 * 1000 + (j + 44) as u64),
+                );
+                (a as f64, e.mean)
+            })
+            .collect();
+        chart.add(&format!("θi = {ti}°"), pts);
+    }
+    let polar = chart.render(720, 460);
+    let res = 64usize;
+    let mut img = crate::image_io::RgbImage::new(res, res);
+    let mut vals = vec![f32::NAN; res * res];
+    let per_pixel = (samples / (res * res)).max(4);
+    for y in 0..res {
+        for x in 0..res {
+            let (u, v) = (
+                (x as f32 + 0.5) / res as f32 * 2.0 - 1.0,
+                1.0 - (y as f32 + 0.5) / res as f32 * 2.0,
+            );
+            let r2 = u * u + v * v;
+            if r2 >= 1.0 {
+                continue;
+            }
+            let q = Quantity::Eval {
+                theta_i,
+                theta_o: r2.sqrt().asin().to_degrees(),
+                phi_o: v.atan2(u).to_degrees(),
+            };
+            vals[y * res + x] = at_wavelength(
+                m,
+                q,
+                lambda,
+                per_pixel,
+                seed.wrapping_add(5000 + (y * res + x) as u64),
+            )
+            .mean as f32;
+        }
+    }
+    let max = vals
+        .iter()
+        .copied()
+        .filter(|v| v.is_finite())
+        .fold(0.0, f32::max);
+    for (p, v) in img.data.iter_mut().zip(&vals) {
+        *p = if v.is_finite() {
+            heat(*v, max)
+        } else {
+            [1.0; 3]
+        };
+    }
+    let hemi = color_map(
+        &img,
+        (-1.0, 1.0),
+        (-1.0, 1.0),
+        &format!("f·cos θo, θi = {theta_i}°, max {max:.3}"),
+        "sin θo cos φo",
+        "sin θo sin φo",
+        520,
+        520,
+    );
+    (polar, hemi)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

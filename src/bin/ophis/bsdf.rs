@@ -3,7 +3,7 @@
 
 use anyhow::{anyhow, bail, Result};
 use clap::Parser;
-use ophis::bsdf::inspect::{at_wavelength, bsdf_ids, find_bsdf, linear_srgb, Quantity};
+use ophis::bsdf::inspect::{at_wavelength, bsdf_ids, find_bsdf, linear_srgb, plots, Quantity};
 use ophis::bsdf::testing::Estimate;
 use ophis::scene::build::build_material;
 use ophis::scene::mitsuba::load_file;
@@ -42,6 +42,11 @@ pub struct BsdfArgs {
     /// Number of samples per estimate.
     #[arg(long, default_value_t = 100_000)]
     samples: usize,
+    /// Write figures: FILE.png (polar plot of the lobe in the plane of incidence for θi = 0°,
+    /// 30°, 60°, 75°) and FILE-hemisphere.png (f·cos over the hemisphere at --theta-i), at the
+    /// first --lambda (default 550 nm), spending --samples over all points.
+    #[arg(long, value_name = "FILE.png")]
+    plot: Option<PathBuf>,
     /// Seed of the random stream.
     #[arg(long, default_value_t = 1)]
     seed: u64,
@@ -53,8 +58,8 @@ fn show(e: &Estimate) -> String {
 
 /// Runs `ophis bsdf`.
 pub fn run(args: BsdfArgs) -> Result<()> {
-    if !args.albedo && !args.eval {
-        bail!("nothing to do: give --albedo and/or --eval");
+    if !args.albedo && !args.eval && args.plot.is_none() {
+        bail!("nothing to do: give --albedo, --eval and/or --plot");
     }
     if args.samples < 2 {
         bail!("--samples must be at least 2");
@@ -118,6 +123,16 @@ pub fn run(args: BsdfArgs) -> Result<()> {
                 println!("  {l} nm {}", show(&e));
             }
         }
+    }
+    if let Some(path) = &args.plot {
+        let lambda = args.lambda.first().copied().unwrap_or(550.0);
+        let (polar, hemi) = plots(&material, lambda, args.theta_i, args.samples, args.seed);
+        let stem = path.with_extension("");
+        let hemi_path = PathBuf::from(format!("{}-hemisphere.png", stem.display()));
+        let polar_path = stem.with_extension("png");
+        polar.save_png(&polar_path)?;
+        hemi.save_png(&hemi_path)?;
+        println!("wrote {} and {}", polar_path.display(), hemi_path.display());
     }
     Ok(())
 }
