@@ -49,7 +49,7 @@ fn main() {
         .map(|_| {
             let a = 85.0 * rng.next_f32();
             let b = 85.0 * rng.next_f32();
-            (dir(a, 0.0), dir(b, 6.28 * rng.next_f32()))
+            (dir(a, 0.0), dir(b, std::f32::consts::TAU * rng.next_f32()))
         })
         .collect();
     println!("snake stack: coat 1.5 / absorbing τ = 1.4 / base 0.5 (release build)");
