@@ -7,8 +7,8 @@
 //! `f · |cos θi| / pdf`. Delta lobes return `pdf = 1` with `f` holding the lobe's weight divided by
 //! `|cos θi|`, and are never returned by `f`/`pdf`.
 
-pub mod bumpmap;
 pub mod absorption;
+pub mod bumpmap;
 pub mod conductor;
 pub mod dielectric;
 pub mod diffuse;

@@ -1,7 +1,7 @@
 //! The `ophis` command line: one subcommand per file beside this one.
 
-mod merge;
 mod bsdf;
+mod merge;
 mod render;
 mod thinfilm;
 mod thinfilm_plot;

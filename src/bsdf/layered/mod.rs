@@ -54,9 +54,34 @@ pub enum LayeredBxdf {
 /// The coat optics of an interface the closed form can handle (a smooth dielectric with unit
 /// factors; thin-film coats plug in here).
 pub fn coat_optics(b: &Bxdf) -> Option<CoatOptics> {
+    use crate::bsdf::filmfresnel::FilmMode;
     match b {
         Bxdf::Dielectric(d) if d.r_s == SampledSpectrum::ONE && d.t_s == SampledSpectrum::ONE => {
             Some(CoatOptics::Dielectric { eta: d.eta })
+        }
+        // A smooth film on a dielectric coat, computed exactly (the thesis mode and absorbing
+        // bases have no closed form here and take the random walk).
+        Bxdf::ThinFilm(t)
+            if t.r_s == SampledSpectrum::ONE
+                && t.t_s == SampledSpectrum::ONE
+                && t.film.mode == FilmMode::Spectral
+                && t.film.spectral.base_k.iter().all(|&k| k == 0.0)
+                && t.film
+                    .spectral
+                    .base_n
+                    .iter()
+                    .all(|&n| n == t.film.spectral.base_n[0]) =>
+        {
+            // Indices relative to the outer medium; the vacuum wavelength shrinks with it so
+            // that the film's phase 2π n1 d cos θ1 / λ is unchanged.
+            let ext = t.film.ext;
+            let s = &t.film.spectral;
+            Some(CoatOptics::Film {
+                eta: s.base_n[0] / ext,
+                film_ior: s.film.map(|f| f / ext),
+                thickness_nm: t.film.d_nm,
+                lambda: s.lambda.map(|l| l / ext),
+            })
         }
         _ => None,
     }
