@@ -39,7 +39,7 @@ fn main() {
     };
     let film = CoatOptics::Film {
         eta: 1.5,
-        film_ior: 1.56,
+        film_ior: [1.56; 4],
         thickness_nm: 300.0,
         lambda: [450.0, 520.0, 590.0, 660.0],
     };
@@ -62,7 +62,7 @@ fn main() {
         let l = 400.0 + 0.1 * i as f32;
         let f = CoatOptics::Film {
             eta: 1.5,
-            film_ior: 1.56,
+            film_ior: [1.56; 4],
             thickness_nm: 300.0,
             lambda: [l, l + 70.0, l + 140.0, l + 210.0],
         };
