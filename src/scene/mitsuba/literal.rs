@@ -96,13 +96,7 @@ pub fn parse_vec3(s: &str) -> Result<[f32; 3], String> {
 
 /// The sRGB transfer function's inverse (encoded → linear); odd-symmetric for negatives.
 pub fn srgb_to_linear(c: f32) -> f32 {
-    let a = c.abs();
-    let l = if a <= 0.04045 {
-        a / 12.92
-    } else {
-        ((a + 0.055) / 1.055).powf(2.4)
-    };
-    l.copysign(c)
+    crate::spectrum::cie::srgb_decode(c.abs()).copysign(c)
 }
 
 /// An RGB triple: "r, g, b", "r g b", one value for all three, or "#rrggbb" (sRGB-encoded,
