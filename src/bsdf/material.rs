@@ -5,11 +5,13 @@
 //! derived constants (relative index, the diffuse Fresnel average of the plastics). Defaults are
 //! Mitsuba 3's and are exposed as constants for the scene loader.
 
+use super::absorption::AbsorptionBxdf;
 use super::conductor::ConductorBxdf;
 use super::dielectric::DielectricBxdf;
 use super::diffuse::DiffuseBxdf;
 use super::filmmaterial::FilmMaterial;
 use super::fresnel::{fresnel_diffuse_reflectance, ConductorFresnel};
+use super::layered::{LayeredBxdf, Medium, MAX_INTERFACES};
 use super::microfacet::{MicrofacetDistribution, MicrofacetType};
 use super::plastic::PlasticBxdf;
 use super::roughconductor::RoughConductorBxdf;
@@ -17,7 +19,7 @@ use super::roughdielectric::RoughDielectricBxdf;
 use super::roughplastic::RoughPlasticBxdf;
 use super::thindielectric::ThinDielectricBxdf;
 use super::Bxdf;
-use crate::spectrum::{SampledWavelengths, Spectrum};
+use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
 use crate::texture::{FloatTexture, SpectrumTexture, TexCoord};
 
 /// Default interior index of `dielectric`/`roughdielectric`/`thindielectric` (BK7).
@@ -117,9 +119,33 @@ pub enum Material {
         strength: f32,
         inner: Box<Material>,
     },
+    /// `multilayered`: interfaces top first and the media between them (see
+    /// [`super::layered`]).
+    Multilayered {
+        surfaces: Vec<Material>,
+        media: Vec<LayerMedium>,
+        max_depth: u32,
+        closed_form: bool,
+    },
+    /// `absorption` (see [`super::absorption`]).
+    Absorption {
+        reflectance: SpectrumTexture,
+        sigma_a: SpectrumTexture,
+        thickness: f32,
+    },
     /// `null` (for now: black; an index-matched pass-through would be `ThinDielectric` with
     /// η = 1).
     Null,
+}
+
+/// A homogeneous medium of a `multilayered` stack (unit thickness: `sigma_t` is the optical
+/// depth).
+#[derive(Clone, Debug)]
+pub struct LayerMedium {
+    pub sigma_t: SpectrumTexture,
+    pub albedo: SpectrumTexture,
+    /// Henyey–Greenstein asymmetry.
+    pub g: f32,
 }
 
 fn splat(v: f32) -> SpectrumTexture {
@@ -349,6 +375,37 @@ impl Material {
             Material::BumpMap { inner, .. } | Material::NormalMap { inner, .. } => {
                 return inner.eval(tc, wl, front_side)
             }
+            Material::Multilayered {
+                surfaces,
+                media,
+                max_depth,
+                closed_form,
+            } => {
+                let ifs = surfaces.iter().map(|m| m.eval(tc, wl, true).0);
+                let med: [Medium; MAX_INTERFACES - 1] =
+                    std::array::from_fn(|i| match media.get(i) {
+                        Some(m) => Medium {
+                            sigma_t: sp(&m.sigma_t).clamp(0.0, f32::MAX),
+                            albedo: sp(&m.albedo).clamp(0.0, 1.0),
+                            g: m.g,
+                        },
+                        None => Medium::absorbing(SampledSpectrum::ZERO),
+                    });
+                let med = &med[..media.len().min(MAX_INTERFACES - 1)];
+                match LayeredBxdf::new(ifs, med, *max_depth, *closed_form) {
+                    Some(l) => Bxdf::Layered(Box::new(l)),
+                    None => Bxdf::Black,
+                }
+            }
+            Material::Absorption {
+                reflectance,
+                sigma_a,
+                thickness,
+            } => Bxdf::Absorption(AbsorptionBxdf::new(
+                sp(reflectance).clamp(0.0, 1.0),
+                sp(sigma_a).clamp(0.0, f32::MAX),
+                *thickness,
+            )),
             Material::Null => Bxdf::Black,
         };
         (bxdf, false)
@@ -379,6 +436,9 @@ impl Material {
             | Material::RoughDielectric { .. }
             | Material::Null => true,
             Material::ThinFilm(m) => m.has_transmission(),
+            Material::Multilayered { surfaces, .. } => {
+                surfaces.iter().all(|m| m.has_transmission())
+            }
             Material::TwoSided { front, back } => {
                 front.has_transmission() || back.as_ref().is_some_and(|b| b.has_transmission())
             }

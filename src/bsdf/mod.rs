@@ -7,6 +7,7 @@
 //! `f · |cos θi| / pdf`. Delta lobes return `pdf = 1` with `f` holding the lobe's weight divided by
 //! `|cos θi|`, and are never returned by `f`/`pdf`.
 
+pub mod absorption;
 pub mod bumpmap;
 pub mod conductor;
 pub mod dielectric;
@@ -14,6 +15,8 @@ pub mod diffuse;
 pub mod filmfresnel;
 pub mod filmmaterial;
 pub mod fresnel;
+pub mod inspect;
+pub mod layered;
 pub mod material;
 pub mod microfacet;
 pub mod plastic;
@@ -148,6 +151,9 @@ pub enum Bxdf {
     RoughThinFilm(roughthinfilm::RoughThinFilmBxdf),
     ThinFilmConductor(thinfilmconductor::ThinFilmConductorBxdf),
     RoughThinFilmConductor(thinfilmconductor::RoughThinFilmConductorBxdf),
+    Absorption(absorption::AbsorptionBxdf),
+    /// `multilayered` (boxed: it holds its interfaces inline).
+    Layered(Box<layered::LayeredBxdf>),
     /// Absorbs everything (e.g. the back of a one-sided surface, or `null`).
     Black,
 }
@@ -167,6 +173,8 @@ macro_rules! dispatch {
             Bxdf::RoughThinFilm($b) => $e,
             Bxdf::ThinFilmConductor($b) => $e,
             Bxdf::RoughThinFilmConductor($b) => $e,
+            Bxdf::Absorption($b) => $e,
+            Bxdf::Layered($b) => $e,
             Bxdf::Black => $black,
         }
     };

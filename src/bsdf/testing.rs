@@ -72,6 +72,19 @@ pub fn chi2_test(
     mode: TransportMode,
     cfg: &Chi2Config,
 ) -> Result<Chi2Outcome, String> {
+    chi2_test_against(bxdf, bxdf, wo, mode, cfg)
+}
+
+/// [`chi2_test`] of `sampler`'s directions against the density `pdf()` of another BSDF,
+/// `density` (e.g. a stochastic BSDF's sampler against a closed form of the same model).
+pub fn chi2_test_against(
+    sampler: &Bxdf,
+    density: &Bxdf,
+    wo: Vec3,
+    mode: TransportMode,
+    cfg: &Chi2Config,
+) -> Result<Chi2Outcome, String> {
+    let bxdf = sampler;
     let (nc, np) = (cfg.cos_bins, cfg.phi_bins);
     let mut obs = vec![0.0f64; nc * np];
     let mut rng = Pcg32::new(cfg.seed, 0x5eed);
@@ -124,7 +137,7 @@ pub fn chi2_test(
             let mut g = |c: f64, p: f64| {
                 let s = (1.0 - c * c).max(0.0).sqrt();
                 let w = Vec3::new((s * p.cos()) as f32, (s * p.sin()) as f32, c as f32);
-                bxdf.pdf(wo, w, mode, &mut prng) as f64
+                density.pdf(wo, w, mode, &mut prng) as f64
             };
             exp[ic * np + ip] = n * integrate_cell(&mut g, c0, c1, p0, p1, tol);
         }

@@ -84,7 +84,11 @@ pub fn film_rt(cos_theta0: f64, n0: f64, n1: C, d_nm: f64, n2: C, lambda_nm: f64
 
     // A film of zero thickness is no film: use the bare n0|n2 interface. (The Airy sum gives
     // the same value except exactly at grazing incidence, where it becomes 0/0.)
-    let (n1, c1, d_nm) = if d_nm == 0.0 { (n2, c2, 0.0) } else { (n1, c1, d_nm) };
+    let (n1, c1, d_nm) = if d_nm == 0.0 {
+        (n2, c2, 0.0)
+    } else {
+        (n1, c1, d_nm)
+    };
     let delta = C::new(2.0 * std::f64::consts::PI * d_nm / lambda_nm, 0.0) * n1 * c1;
     let e1 = (C::i() * delta).exp();
     let e2 = e1 * e1;
@@ -261,9 +265,23 @@ mod tests {
         // …also at (numerically) grazing incidence, where the Airy sum alone would be 0/0: with
         // n0 = n2 there is no interface at all (R = 0), with n2 ≠ n0 grazing light reflects.
         let grazing = 90f64.to_radians().cos();
-        let g = film_rt(grazing, 1.0, C::new(1.56, 0.0), 0.0, C::new(1.0, 0.0), 500.0);
+        let g = film_rt(
+            grazing,
+            1.0,
+            C::new(1.56, 0.0),
+            0.0,
+            C::new(1.0, 0.0),
+            500.0,
+        );
         assert!(g.r() < 1e-9, "{g:?}");
-        let g = film_rt(grazing, 1.0, C::new(1.56, 0.0), 0.0, C::new(1.5, 0.0), 500.0);
+        let g = film_rt(
+            grazing,
+            1.0,
+            C::new(1.56, 0.0),
+            0.0,
+            C::new(1.5, 0.0),
+            500.0,
+        );
         assert!(g.r() > 0.999, "{g:?}");
     }
 

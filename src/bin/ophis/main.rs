@@ -1,5 +1,6 @@
 //! The `ophis` command line: one subcommand per file beside this one.
 
+mod bsdf;
 mod merge;
 mod render;
 mod thinfilm;
@@ -25,6 +26,8 @@ enum Command {
     /// Merge renders of one scene made with different seeds (e.g. on several machines) into
     /// the image one render with all their samples would have made.
     Merge(merge::MergeArgs),
+    /// Inspect one BSDF of a scene: directional albedo and f·cos with standard errors.
+    Bsdf(bsdf::BsdfArgs),
 }
 
 fn main() {
@@ -33,6 +36,7 @@ fn main() {
         Command::Render(args) => render::run(args),
         Command::Thinfilm(args) => thinfilm::run(args),
         Command::Merge(args) => merge::run(args),
+        Command::Bsdf(args) => bsdf::run(args),
     };
     if let Err(e) = result {
         eprintln!("error: {e:#}");

@@ -43,10 +43,8 @@ pub(crate) fn material_for(
     Ok(i)
 }
 
-pub(super) fn build_material(
-    node: &Node,
-    warnings: &mut Vec<Warning>,
-) -> Result<Material, SceneError> {
+/// The material a `<bsdf>` node describes (nested BSDFs and textures included).
+pub fn build_material(node: &Node, warnings: &mut Vec<Warning>) -> Result<Material, SceneError> {
     let sr =
         |name: &str| spectrum_texture(node, name, SpectrumKind::Albedo, Spectrum::Constant(1.0));
     Ok(match node.plugin.as_str() {
@@ -143,6 +141,8 @@ pub(super) fn build_material(
         film if super::thinfilm::is_film_plugin(film) => super::thinfilm::film_material(node)?,
         "bumpmap" => super::scales::bumpmap(node, warnings)?,
         "normalmap" => super::scales::normalmap(node, warnings)?,
+        "multilayered" => super::layered::multilayered(node, warnings)?,
+        "absorption" | "Absorption" => super::layered::absorption(node)?,
         other => {
             warnings.push(Warning {
                 loc: node.loc.clone(),

@@ -2,6 +2,7 @@
 //! integrator settings, shapes with their materials and area lights, other emitters, the BVH.
 
 mod emitters;
+mod layered;
 mod materials;
 mod procedural;
 mod scales;
@@ -18,6 +19,7 @@ use crate::film::Filter;
 use crate::light::{Light, LightSampler};
 use crate::math::{Bounds3, Transform};
 use crate::sampler::SamplerKind;
+pub use materials::build_material;
 use std::collections::HashMap;
 use std::path::Path;
 use std::sync::Arc;

@@ -1,0 +1,86 @@
+//! Absorbing layer over a Lambertian base, the thesis's "capa de absorción" (Bielsa 2022,
+//! §3.5, algorithm 2; Padrón-Griffe et al., CEIG 2023): Beer–Lambert attenuation along the path
+//! in and the path out of a layer of thickness d and absorption coefficient σa,
+//!
+//! f = ρ/π · exp(−σa d (1/cos θi + 1/cos θo)),
+//!
+//! sampled by cosine weighting (exact pdf). The thesis multiplies σa by the thickness and by the
+//! length of the path through the layer (algorithm 2, eq. 3.2); the length of a straight path
+//! through a slab of unit thickness is 1/cos θ on each way.
+//!
+//! | XML name      | type             | default | unit |
+//! |---------------|------------------|---------|------|
+//! | `reflectance` | spectrum/texture | 0.5     | albedo of the base |
+//! | `sigma_a`     | spectrum/texture | 0       | absorption coefficient, 1/(unit of `thickness`) |
+//! | `thickness`   | float            | 1       | layer thickness |
+//!
+//! Seed names: plugin `absorption` (the seed's Mitsuba 0.6 plugin is `Absorption`), `sigmaA`
+//! (upgraded to `sigma_a` by the loader). The seed's plugin applied the same factor as a
+//! straight pass-through interface inside its `multilayered` stack; here it is the opaque base
+//! the thesis describes, which `multilayered` can use as its bottom surface.
+//!
+//! Physical limits: the layer has the index of the outside (no refraction at its top, no
+//! internal reflection) and does not scatter; the base is Lambertian. Under those assumptions
+//! the formula is exact — it equals [`super::layered::closed_form`] with η = 1. One-sided;
+//! energy ≤ ρ (absorption only removes light). For a layer under a coat of another index use
+//! `multilayered`, whose closed form includes refraction and internal reflection.
+
+use super::{BsdfSample, BxdfFlags, TransportMode};
+use crate::math::{warp, Pcg32, Vec2, Vec3, INV_PI};
+use crate::spectrum::SampledSpectrum;
+
+/// Lambertian base of albedo `rho` under a layer of optical depth `tau` = σa·d.
+#[derive(Clone, Debug)]
+pub struct AbsorptionBxdf {
+    pub rho: SampledSpectrum,
+    pub tau: SampledSpectrum,
+}
+
+impl AbsorptionBxdf {
+    /// Base albedo `rho`, absorption coefficient `sigma_a`, layer `thickness`.
+    pub fn new(rho: SampledSpectrum, sigma_a: SampledSpectrum, thickness: f32) -> Self {
+        AbsorptionBxdf {
+            rho,
+            tau: sigma_a * thickness,
+        }
+    }
+    pub fn flags(&self) -> BxdfFlags {
+        if self.rho.is_black() {
+            BxdfFlags::NONE
+        } else {
+            BxdfFlags::DIFFUSE_REFLECTION
+        }
+    }
+    pub fn f(&self, wo: Vec3, wi: Vec3, _m: TransportMode, _rng: &mut Pcg32) -> SampledSpectrum {
+        if wo.z <= 0.0 || wi.z <= 0.0 {
+            return SampledSpectrum::ZERO;
+        }
+        let path = 1.0 / wo.z + 1.0 / wi.z;
+        self.rho * INV_PI * (-self.tau * path).exp()
+    }
+    pub fn pdf(&self, wo: Vec3, wi: Vec3, _m: TransportMode, _rng: &mut Pcg32) -> f32 {
+        if wo.z <= 0.0 || wi.z <= 0.0 {
+            return 0.0;
+        }
+        warp::square_to_cosine_hemisphere_pdf(wi)
+    }
+    pub fn sample_f(
+        &self,
+        wo: Vec3,
+        _uc: f32,
+        u: Vec2,
+        mode: TransportMode,
+        rng: &mut Pcg32,
+    ) -> Option<BsdfSample> {
+        if wo.z <= 0.0 {
+            return None;
+        }
+        let wi = warp::square_to_cosine_hemisphere(u);
+        let pdf = warp::square_to_cosine_hemisphere_pdf(wi);
+        if pdf.is_nan() || pdf <= 0.0 {
+            return None;
+        }
+        let f = self.f(wo, wi, mode, rng);
+        Some(BsdfSample::new(f, wi, pdf, BxdfFlags::DIFFUSE_REFLECTION))
+    }
+}

@@ -1,0 +1,357 @@
+//! Closed form of a smooth coat over a non-scattering absorbing slab over a Lambertian base —
+//! the zero-variance fast path of [`super::LayeredBxdf`] and the oracle of its random walk.
+//!
+//! Derivation (research/layered.md §3.1; the τ = 0 case is the `nonlinear` plastic of
+//! Weidlich & Wilkie 2007 / Kelemen & Szirmay-Kalos 2001). The Lambertian base turns every
+//! direction into a cosine distribution, so light inside the coat forms a geometric series:
+//! with η the coat's relative index, F(μ) the coat's reflectance seen from outside, F_int(μ′)
+//! from inside (1 beyond the critical angle), μ′(μ) = √(1 − (1 − μ²)/η²) the refracted cosine,
+//! ρ the base albedo and τ the slab's optical depth,
+//!
+//! - escape fraction  E   = ∫₀¹ 2μ′ e^{−τ/μ′} (1 − F_int(μ′)) dμ′,
+//! - return fraction  R_r = ∫₀¹ 2μ′ e^{−2τ/μ′} F_int(μ′) dμ′,
+//! - diffuse part     f   = (1 − F(μo))(1 − F(μi)) e^{−τ/μ′o} e^{−τ/μ′i} ρ / (π η² (1 − ρ R_r)),
+//! - albedo           R(μ) = F(μ) + (1 − F(μ)) e^{−τ/μ′} ρ E / (1 − ρ R_r),
+//!
+//! plus a delta reflection of weight F(μ). (Flux leaving the base is cosine-distributed inside;
+//! étendue η² μ′ dω′ = μ dω maps it outside, and 1 − F_int(μ′) = 1 − F(μ) for a lossless coat.)
+//! The same formulas hold per wavelength for a thin-film coat (research/layered.md §3.2) with F
+//! the film stack's Airy reflectance ([`crate::optics::thinfilm::film_rt`]).
+//! f is symmetric, so radiance and importance modes agree.
+//!
+//! Sampling (exact pdf, §3.3 with the λ-averaged coat): the delta lobe with probability
+//! F̄(μo) (mean over the path's wavelengths, weight F_λ/F̄); otherwise a direction with density
+//! p(ωi) = (1 − F̄(μo)) T̄(μi) μi / (π K), K = ∫₀¹ 2μ T̄(μ) dμ, T̄ = 1 − F̄, drawn by cosine
+//! sampling and accepting with probability T̄(μi) (acceptance ≈ 0.9 for η = 1.5).
+//!
+//! Integrals: Gauss–Legendre in the cosine with the substitution μ = μc + (1 − μc)s² past the
+//! critical cosine μc, which removes the square-root kink of the Fresnel terms there.
+//! Known limits: coat factors `specular_reflectance`/`specular_transmittance` must be 1 (other
+//! stacks use the random walk); the quadrature (48 nodes; for a film top ~200 Airy evaluations,
+//! ≈ 33 µs) is memoised per thread for the last 8 (coat, τ) — a hit for constant materials with
+//! a plain coat, a miss for film coats, whose wavelengths change per path.
+
+use crate::bsdf::fresnel::fresnel_dielectric;
+use crate::bsdf::{BsdfSample, BxdfFlags, TransportMode};
+use crate::math::{warp, Pcg32, Vec2, Vec3, INV_PI};
+use crate::optics::thinfilm::film_rt;
+use crate::spectrum::{SampledSpectrum, N};
+use num_complex::Complex64;
+use std::sync::OnceLock;
+
+/// The reflectance of the smooth coat: a bare dielectric, or a dielectric under a thin film.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum CoatOptics {
+    /// Bare interface of relative index `eta` (coat / outside).
+    Dielectric { eta: f32 },
+    /// A film of relative index `film_ior` and thickness `thickness_nm` on a coat of relative
+    /// index `eta`, at the path's wavelengths `lambda` (nm).
+    Film {
+        eta: f32,
+        film_ior: f32,
+        thickness_nm: f32,
+        lambda: [f32; N],
+    },
+}
+
+impl CoatOptics {
+    /// Relative index of the coat.
+    pub fn eta(&self) -> f32 {
+        match *self {
+            CoatOptics::Dielectric { eta } | CoatOptics::Film { eta, .. } => eta,
+        }
+    }
+
+    /// Reflectance per wavelength for light arriving from outside with cosine `mu` ≥ 0.
+    pub fn outside(&self, mu: f32) -> SampledSpectrum {
+        match *self {
+            CoatOptics::Dielectric { eta } => SampledSpectrum::splat(fresnel_dielectric(mu, eta)),
+            CoatOptics::Film {
+                eta,
+                film_ior,
+                thickness_nm,
+                lambda,
+            } => SampledSpectrum::from_fn(|i| {
+                film_rt(
+                    mu as f64,
+                    1.0,
+                    Complex64::new(film_ior as f64, 0.0),
+                    thickness_nm as f64,
+                    Complex64::new(eta as f64, 0.0),
+                    lambda[i] as f64,
+                )
+                .r() as f32
+            }),
+        }
+    }
+
+    /// Reflectance per wavelength for light arriving from inside the coat with cosine `mu`.
+    pub fn inside(&self, mu: f32) -> SampledSpectrum {
+        match *self {
+            CoatOptics::Dielectric { eta } => SampledSpectrum::splat(fresnel_dielectric(-mu, eta)),
+            CoatOptics::Film {
+                eta,
+                film_ior,
+                thickness_nm,
+                lambda,
+            } => SampledSpectrum::from_fn(|i| {
+                film_rt(
+                    mu as f64,
+                    eta as f64,
+                    Complex64::new(film_ior as f64, 0.0),
+                    thickness_nm as f64,
+                    Complex64::new(1.0, 0.0),
+                    lambda[i] as f64,
+                )
+                .r() as f32
+            }),
+        }
+    }
+}
+
+/// Gauss–Legendre nodes and weights on [0, 1].
+fn gauss_legendre() -> &'static [(f64, f64)] {
+    const M: usize = 24;
+    static NODES: OnceLock<Vec<(f64, f64)>> = OnceLock::new();
+    NODES.get_or_init(|| {
+        let mut out = Vec::with_capacity(M);
+        for i in 0..M {
+            // Newton on P_M from the Chebyshev-like initial guess.
+            let mut x = (std::f64::consts::PI * (i as f64 + 0.75) / (M as f64 + 0.5)).cos();
+            let mut dp = 1.0;
+            for _ in 0..100 {
+                let (mut p0, mut p1) = (1.0, x);
+                for k in 2..=M {
+                    let p2 = ((2 * k - 1) as f64 * x * p1 - (k - 1) as f64 * p0) / k as f64;
+                    p0 = p1;
+                    p1 = p2;
+                }
+                dp = M as f64 * (x * p1 - p0) / (x * x - 1.0);
+                let dx = p1 / dp;
+                x -= dx;
+                if dx.abs() < 1e-15 {
+                    break;
+                }
+            }
+            let w = 2.0 / ((1.0 - x * x) * dp * dp);
+            out.push((0.5 * (1.0 - x), 0.5 * w));
+        }
+        out
+    })
+}
+
+/// Quadrature nodes (μ, weight) of ∫₀¹ · dμ for integrands with a kink at `mu_c` (0: none):
+/// Gauss–Legendre on [0, μc] and, with μ = μc + (1 − μc)s², on [μc, 1].
+pub(crate) fn kinked_nodes(mu_c: f64) -> impl Iterator<Item = (f64, f64)> {
+    let gl = gauss_legendre();
+    let below = gl
+        .iter()
+        .filter(move |_| mu_c > 0.0)
+        .map(move |&(x, w)| (mu_c * x, w * mu_c));
+    let above = gl
+        .iter()
+        .map(move |&(x, w)| (mu_c + (1.0 - mu_c) * x * x, w * 2.0 * (1.0 - mu_c) * x));
+    below.chain(above)
+}
+
+/// Cosine of the refracted direction inside a coat of relative index `eta` (0 under total
+/// internal reflection).
+#[inline]
+pub(crate) fn refracted_cos(mu: f32, eta: f32) -> f32 {
+    (1.0 - (1.0 - mu * mu) / (eta * eta)).max(0.0).sqrt()
+}
+
+/// The smooth coat + absorbing slab + Lambertian base, evaluated in closed form.
+#[derive(Clone, Debug)]
+pub struct CoatedDiffuse {
+    pub coat: CoatOptics,
+    /// Base albedo ρ.
+    pub rho: SampledSpectrum,
+    /// Optical depth τ of the slab.
+    pub tau: SampledSpectrum,
+    /// Escape fraction E per wavelength.
+    pub escape: SampledSpectrum,
+    /// Return fraction R_r per wavelength.
+    pub ret: SampledSpectrum,
+    /// Sampling normalisation K = ∫ 2μ T̄(μ) dμ.
+    pub k_norm: f32,
+}
+
+impl CoatedDiffuse {
+    /// Precomputes the internal-reflection integrals for this coat, base and slab. The
+    /// integrals do not depend on ρ; the last few (coat, τ) of each thread are memoised, so a
+    /// material with constant parameters pays the quadrature once rather than per shading point.
+    pub fn new(coat: CoatOptics, rho: SampledSpectrum, tau: SampledSpectrum) -> CoatedDiffuse {
+        type Entry = Option<(
+            CoatOptics,
+            SampledSpectrum,
+            SampledSpectrum,
+            SampledSpectrum,
+            f32,
+        )>;
+        thread_local! {
+            static MEMO: std::cell::RefCell<([Entry; 8], usize)> =
+                const { std::cell::RefCell::new(([None; 8], 0)) };
+        }
+        let hit = MEMO.with(|m| {
+            m.borrow()
+                .0
+                .iter()
+                .flatten()
+                .find(|e| e.0 == coat && e.1 == tau)
+                .copied()
+        });
+        let (escape, ret, k_norm) = match hit {
+            Some((_, _, e, r, k)) => (e, r, k),
+            None => {
+                let v = Self::integrals(coat, tau);
+                MEMO.with(|m| {
+                    let mut m = m.borrow_mut();
+                    let slot = m.1;
+                    m.0[slot] = Some((coat, tau, v.0, v.1, v.2));
+                    m.1 = (slot + 1) % 8;
+                });
+                v
+            }
+        };
+        CoatedDiffuse {
+            coat,
+            rho,
+            tau,
+            escape,
+            ret,
+            k_norm,
+        }
+    }
+
+    /// E, R_r per wavelength and the sampling normalisation K, by quadrature.
+    fn integrals(
+        coat: CoatOptics,
+        tau: SampledSpectrum,
+    ) -> (SampledSpectrum, SampledSpectrum, f32) {
+        let eta = coat.eta() as f64;
+        let mu_c_in = if eta > 1.0 {
+            (1.0 - 1.0 / (eta * eta)).sqrt()
+        } else {
+            0.0
+        };
+        let mu_c_out = if eta < 1.0 {
+            (1.0 - eta * eta).sqrt()
+        } else {
+            0.0
+        };
+        let mut escape = [0.0f64; N];
+        let mut ret = [0.0f64; N];
+        for (mu, w) in kinked_nodes(mu_c_in) {
+            // F_int once per node for all wavelengths.
+            let f_int = coat.inside(mu as f32);
+            for i in 0..N {
+                let t = tau[i] as f64;
+                let (e1, e2) = if mu > 0.0 {
+                    ((-t / mu).exp(), (-2.0 * t / mu).exp())
+                } else {
+                    (0.0, 0.0)
+                };
+                let fi = (f_int[i] as f64).clamp(0.0, 1.0);
+                escape[i] += w * 2.0 * mu * e1 * (1.0 - fi);
+                ret[i] += w * 2.0 * mu * e2 * fi;
+            }
+        }
+        let k_norm = kinked_nodes(mu_c_out)
+            .map(|(mu, w)| w * 2.0 * mu * (1.0 - coat.outside(mu as f32).average() as f64))
+            .sum::<f64>() as f32;
+        (
+            SampledSpectrum(escape.map(|v| v as f32)),
+            SampledSpectrum(ret.map(|v| v as f32)),
+            k_norm,
+        )
+    }
+
+    /// Lobes: a delta reflection off the coat and the diffuse part.
+    pub fn flags(&self) -> BxdfFlags {
+        BxdfFlags::SPECULAR_REFLECTION | BxdfFlags::DIFFUSE_REFLECTION
+    }
+
+    /// Slab transmittance e^{−τ/μ′} for an outside cosine `mu`.
+    fn slab(&self, mu: f32) -> SampledSpectrum {
+        let mt = refracted_cos(mu, self.coat.eta());
+        if mt <= 0.0 {
+            return SampledSpectrum::ZERO;
+        }
+        (-self.tau / mt).exp()
+    }
+
+    /// The diffuse part's constant ρ / (π η² (1 − ρ R_r)).
+    fn diffuse_scale(&self) -> SampledSpectrum {
+        let eta = self.coat.eta();
+        self.rho * INV_PI / ((SampledSpectrum::ONE - self.rho * self.ret) * (eta * eta))
+    }
+
+    /// Directional albedo R(μ) including the delta reflection.
+    pub fn albedo(&self, mu: f32) -> SampledSpectrum {
+        let f = self.coat.outside(mu);
+        let diff = (SampledSpectrum::ONE - f) * self.slab(mu) * self.rho * self.escape
+            / (SampledSpectrum::ONE - self.rho * self.ret);
+        f + diff
+    }
+
+    /// The diffuse part of the BSDF (no cosine).
+    pub fn f(&self, wo: Vec3, wi: Vec3, _m: TransportMode, _rng: &mut Pcg32) -> SampledSpectrum {
+        if wo.z <= 0.0 || wi.z <= 0.0 {
+            return SampledSpectrum::ZERO;
+        }
+        let t_o = SampledSpectrum::ONE - self.coat.outside(wo.z);
+        let t_i = SampledSpectrum::ONE - self.coat.outside(wi.z);
+        t_o * t_i * self.slab(wo.z) * self.slab(wi.z) * self.diffuse_scale()
+    }
+
+    /// Exact density of the non-delta samples.
+    pub fn pdf(&self, wo: Vec3, wi: Vec3, _m: TransportMode, _rng: &mut Pcg32) -> f32 {
+        if wo.z <= 0.0 || wi.z <= 0.0 || self.k_norm <= 0.0 {
+            return 0.0;
+        }
+        let p_spec = self.coat.outside(wo.z).average();
+        let t_bar = 1.0 - self.coat.outside(wi.z).average();
+        (1.0 - p_spec) * t_bar * wi.z * INV_PI / self.k_norm
+    }
+
+    /// Samples the delta lobe or the diffuse part (see the module doc).
+    pub fn sample_f(
+        &self,
+        wo: Vec3,
+        uc: f32,
+        u: Vec2,
+        mode: TransportMode,
+        rng: &mut Pcg32,
+    ) -> Option<BsdfSample> {
+        if wo.z <= 0.0 {
+            return None;
+        }
+        let f_o = self.coat.outside(wo.z);
+        let p_spec = f_o.average();
+        if uc < p_spec {
+            let wi = Vec3::new(-wo.x, -wo.y, wo.z);
+            return Some(BsdfSample::new(
+                f_o / (p_spec * wi.z),
+                wi,
+                1.0,
+                BxdfFlags::SPECULAR_REFLECTION,
+            ));
+        }
+        let mut uu = u;
+        for _ in 0..64 {
+            let wi = warp::square_to_cosine_hemisphere(uu);
+            let t_bar = 1.0 - self.coat.outside(wi.z).average();
+            if wi.z > 0.0 && rng.next_f32() < t_bar {
+                let pdf = self.pdf(wo, wi, mode, rng);
+                if pdf.is_nan() || pdf <= 0.0 {
+                    return None;
+                }
+                let f = self.f(wo, wi, mode, rng);
+                return Some(BsdfSample::new(f, wi, pdf, BxdfFlags::DIFFUSE_REFLECTION));
+            }
+            uu = rng.next_vec2();
+        }
+        None
+    }
+}

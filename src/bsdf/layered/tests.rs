@@ -1,0 +1,239 @@
+//! Closed form against research/layered.md §3 (values computed there by independent
+//! quadrature and a 2M-path Monte Carlo), its sampler by χ², and the `absorption` BSDF.
+
+use super::closed_form::{CoatOptics, CoatedDiffuse};
+use super::*;
+use crate::bsdf::absorption::AbsorptionBxdf;
+use crate::bsdf::dielectric::DielectricBxdf;
+use crate::bsdf::diffuse::DiffuseBxdf;
+use crate::bsdf::testing::{self, direction, Chi2Config};
+use crate::math::Pcg32;
+
+pub(super) const RAD: TransportMode = TransportMode::Radiance;
+
+pub(super) fn splat(v: f32) -> SampledSpectrum {
+    SampledSpectrum::splat(v)
+}
+pub(super) fn coat(eta: f32) -> Bxdf {
+    Bxdf::Dielectric(DielectricBxdf::new(eta, splat(1.0), splat(1.0)))
+}
+pub(super) fn base(rho: f32) -> Bxdf {
+    Bxdf::Diffuse(DiffuseBxdf::new(splat(rho)))
+}
+pub(super) fn closed(tau: f32, rho: f32) -> CoatedDiffuse {
+    CoatedDiffuse::new(CoatOptics::Dielectric { eta: 1.5 }, splat(rho), splat(tau))
+}
+pub(super) fn film(tau: f32, rho: f32, lambda: [f32; 4]) -> CoatedDiffuse {
+    let coat = CoatOptics::Film {
+        eta: 1.5,
+        film_ior: 1.8,
+        thickness_nm: 300.0,
+        lambda,
+    };
+    CoatedDiffuse::new(coat, splat(rho), splat(tau))
+}
+
+#[test]
+fn integrals_match_research_values() {
+    let c = closed(1.4, 0.5);
+    assert!((c.escape[0] - 0.082744).abs() < 2e-6, "E {}", c.escape[0]);
+    assert!((c.ret[0] - 0.005453).abs() < 2e-6, "R_r {}", c.ret[0]);
+    // τ = 0: E = 1 − F̄_int.
+    let c0 = closed(0.0, 0.5);
+    assert!(
+        (c0.escape[0] - 0.403654).abs() < 2e-6,
+        "1 − F̄int {}",
+        c0.escape[0]
+    );
+}
+
+#[test]
+fn albedo_matches_research_table() {
+    let table = [
+        (0.0, [0.316071, 0.084505, 0.049821]),
+        (30.0, [0.317156, 0.084110, 0.050530]),
+        (45.0, [0.323366, 0.090331, 0.058295]),
+        (60.0, [0.351113, 0.125265, 0.095989]),
+        (75.0, [0.467861, 0.280991, 0.258032]),
+        (85.0, [0.724148, 0.626972, 0.615269]),
+    ];
+    for (theta, r) in table {
+        for (tau, want) in [0.0, 0.7, 1.4].into_iter().zip(r) {
+            let got = closed(tau, 0.5).albedo((theta as f32).to_radians().cos())[0];
+            assert!(
+                (got - want).abs() < 3e-5,
+                "θ {theta} τ {tau}: {got} vs {want}"
+            );
+        }
+    }
+}
+
+#[test]
+fn point_values_and_pdf_match_research_table() {
+    let mut rng = Pcg32::new(1, 1);
+    let f = |c: &CoatedDiffuse, ti: f32, to: f32, rng: &mut Pcg32| {
+        c.f(direction(ti, 0.0), direction(to, 2.0), RAD, rng)[0]
+    };
+    let (c0, c14) = (closed(0.0, 0.5), closed(1.4, 0.5));
+    for (ti, to, want0, want14) in [
+        (0.0, 0.0, 0.092886, 0.003975),
+        (45.0, 45.0, 0.090915, 0.002674),
+        (30.0, 60.0, 0.087987, 0.002525),
+        (60.0, 30.0, 0.087987, 0.002525),
+        (0.0, 80.0, 0.059243, 0.001607),
+    ] {
+        let (a, b) = (f(&c0, ti, to, &mut rng), f(&c14, ti, to, &mut rng));
+        assert!((a - want0).abs() < 1e-5, "f({ti},{to}) τ 0: {a} vs {want0}");
+        assert!(
+            (b - want14).abs() < 1e-6,
+            "f({ti},{to}) τ 1.4: {b} vs {want14}"
+        );
+    }
+    for (ti, to, want) in [
+        (0.0, 0.0, 0.322999),
+        (45.0, 45.0, 0.223548),
+        (30.0, 60.0, 0.152982),
+    ] {
+        let p = c0.pdf(direction(ti, 0.0), direction(to, 1.0), RAD, &mut rng);
+        assert!((p - want).abs() < 2e-5, "pdf({ti},{to}) {p} vs {want}");
+    }
+}
+
+#[test]
+fn white_furnace_closed_form_plain_and_film() {
+    for theta in [0.0f32, 30.0, 60.0, 80.0, 89.0] {
+        let mu = theta.to_radians().cos();
+        let r = closed(0.0, 1.0).albedo(mu)[0];
+        assert!((r - 1.0).abs() < 1e-5, "plain θ {theta}: {r}");
+        let rf = film(0.0, 1.0, [400.0, 450.0, 550.0, 650.0]).albedo(mu);
+        for v in rf.0 {
+            assert!((v - 1.0).abs() < 1e-4, "film θ {theta}: {rf:?}");
+        }
+        // Absorption or a grey base can only lose energy.
+        let lossy = film(1.4, 0.5, [400.0, 450.0, 550.0, 650.0]).albedo(mu);
+        assert!(lossy.max_value() < 1.0);
+    }
+}
+
+#[test]
+fn film_top_matches_research_table() {
+    let lambda = [450.0, 550.0, 650.0, 550.0];
+    let r0 = film(0.0, 0.5, lambda);
+    let r14 = film(1.4, 0.5, lambda);
+    let fr = r0.coat.outside(1.0);
+    for (i, (rf, a, b)) in [
+        (0.126521, 0.369764, 0.135037),
+        (0.041364, 0.309354, 0.050829),
+        (0.114102, 0.351013, 0.122312),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        assert!((fr[i] - rf).abs() < 2e-5, "R_film {} vs {rf}", fr[i]);
+        assert!(
+            (r0.albedo(1.0)[i] - a).abs() < 5e-5,
+            "{} vs {a}",
+            r0.albedo(1.0)[i]
+        );
+        assert!(
+            (r14.albedo(1.0)[i] - b).abs() < 5e-5,
+            "{} vs {b}",
+            r14.albedo(1.0)[i]
+        );
+    }
+    // A film of zero thickness is the bare coat.
+    let bare = CoatedDiffuse::new(
+        CoatOptics::Film {
+            eta: 1.5,
+            film_ior: 1.8,
+            thickness_nm: 0.0,
+            lambda,
+        },
+        splat(0.5),
+        splat(0.0),
+    );
+    assert!((bare.albedo(1.0)[1] - 0.316071).abs() < 3e-5);
+}
+
+fn closed_bxdf(c: CoatedDiffuse) -> Bxdf {
+    Bxdf::Layered(Box::new(LayeredBxdf::Closed(c)))
+}
+
+#[test]
+fn closed_form_sampling_chi2_and_albedo() {
+    let cases = [
+        (closed_bxdf(closed(0.0, 0.5)), 0.0f32),
+        (closed_bxdf(closed(1.4, 0.5)), 45.0),
+        (closed_bxdf(closed(0.7, 0.5)), 80.0),
+        (
+            closed_bxdf(film(1.4, 0.5, [450.0, 500.0, 600.0, 700.0])),
+            30.0,
+        ),
+        (
+            closed_bxdf(film(0.0, 0.5, [450.0, 500.0, 600.0, 700.0])),
+            75.0,
+        ),
+    ];
+    let n = cases.len();
+    for (i, (b, theta)) in cases.iter().enumerate() {
+        let wo = direction(*theta, 0.3);
+        let cfg = Chi2Config {
+            seed: 10 + i as u64,
+            test_count: n,
+            samples: 100_000,
+            ..Chi2Config::default()
+        };
+        let out = testing::chi2_test(b, wo, RAD, &cfg).unwrap_or_else(|e| panic!("case {i}: {e}"));
+        assert!(out.delta_fraction > 0.0);
+        // Mean sample weight (delta lobe included) = closed-form albedo.
+        let est = testing::albedo(b, wo, RAD, 40_000, 77 + i as u64, true);
+        let Bxdf::Layered(l) = b else { unreachable!() };
+        let LayeredBxdf::Closed(c) = l.as_ref() else {
+            unreachable!()
+        };
+        let want = c.albedo(wo.z);
+        for (j, e) in est.iter().enumerate() {
+            let se = e.std_err.max(1e-7);
+            assert!(
+                (e.mean - want[j] as f64).abs() <= 4.0 * se,
+                "case {i} channel {j}: {e:?} vs {}",
+                want[j]
+            );
+        }
+    }
+}
+
+#[test]
+fn absorption_is_the_index_matched_closed_form() {
+    let mut rng = Pcg32::new(3, 3);
+    let a = AbsorptionBxdf::new(splat(0.6), splat(0.7), 2.0);
+    let c = CoatedDiffuse::new(CoatOptics::Dielectric { eta: 1.0 }, splat(0.6), splat(1.4));
+    for (ti, to) in [(0.0, 0.0), (30.0, 70.0), (80.0, 10.0)] {
+        let (wo, wi) = (direction(ti, 0.0), direction(to, 1.0));
+        let (x, y) = (a.f(wo, wi, RAD, &mut rng)[0], c.f(wo, wi, RAD, &mut rng)[0]);
+        assert!((x - y).abs() <= 1e-5 * x.max(1e-6), "{ti},{to}: {x} vs {y}");
+    }
+    // Thesis parameters: σa = 0.7, d = 2 at normal incidence both ways: ρ/π e^{−2.8}.
+    let v = a.f(direction(0.0, 0.0), direction(0.0, 0.0), RAD, &mut rng)[0];
+    assert!((v - 0.6 / std::f32::consts::PI * (-2.8f32).exp()).abs() < 1e-7);
+}
+
+#[test]
+fn absorption_chi2_and_energy() {
+    let b = Bxdf::Absorption(AbsorptionBxdf::new(splat(0.8), splat(0.3), 1.0));
+    for (i, theta) in [10.0f32, 70.0].into_iter().enumerate() {
+        let wo = direction(theta, 0.0);
+        let cfg = Chi2Config {
+            seed: 40 + i as u64,
+            test_count: 2,
+            ..Chi2Config::default()
+        };
+        testing::chi2_test(&b, wo, RAD, &cfg).unwrap();
+        let e = testing::albedo(&b, wo, RAD, 20_000, 5, true);
+        let u = testing::hemispherical_integral(&b, wo, RAD, 200_000, 6);
+        assert!(
+            e[0].at_most(0.8, 4.0) && e[0].agrees_with(&u[0], 4.0),
+            "{e:?} {u:?}"
+        );
+    }
+}
