@@ -111,7 +111,7 @@ pub fn sheets() -> Vec<Sheet> {
     vec![
         Sheet {
             name: "thesis-4.1-4.7",
-            title: "Thesis figs 4.1-4.7: each stage of the skin (spectral)",
+            title: "Thesis 4.1-4.7, stage by stage",
             scene: None,
             defines: vec![],
             rows: stages.iter().map(|(l, s)| axis(l, Some(s), &[])).collect(),
