@@ -15,6 +15,8 @@ pub mod camera;
 pub mod checkpoint;
 /// Film: XYZ accumulation and reconstruction filters.
 pub mod film;
+/// The thesis and paper figures, `ophis gallery`, and the built-in Xenopeltis scene.
+pub mod gallery;
 /// Image reading and writing: OpenEXR, Radiance HDR, PNG.
 pub mod image_io;
 /// Path tracing.

@@ -23,6 +23,7 @@ fn scene_with_seed(spp: u32, seed: u64) -> Scene {
         defines: vec![],
         spp: Some(spp),
         seed: Some(seed),
+        ..Default::default()
     };
     let scene = load_scene_str(&xml, &path, &opts)
         .expect("reference scene loads")

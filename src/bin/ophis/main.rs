@@ -1,6 +1,7 @@
 //! The `ophis` command line: one subcommand per file beside this one.
 
 mod bsdf;
+mod gallery;
 mod merge;
 mod render;
 mod thinfilm;
@@ -28,6 +29,9 @@ enum Command {
     Merge(merge::MergeArgs),
     /// Inspect one BSDF of a scene: directional albedo and f·cos with standard errors.
     Bsdf(bsdf::BsdfArgs),
+    /// Render every thesis and CEIG 2023 figure and compose labelled contact sheets
+    /// (docs/gallery/*.png).
+    Gallery(gallery::GalleryArgs),
 }
 
 fn main() {
@@ -37,6 +41,7 @@ fn main() {
         Command::Thinfilm(args) => thinfilm::run(args),
         Command::Merge(args) => merge::run(args),
         Command::Bsdf(args) => bsdf::run(args),
+        Command::Gallery(args) => gallery::run(args),
     };
     if let Err(e) = result {
         eprintln!("error: {e:#}");

@@ -5,22 +5,26 @@ use clap::Parser;
 use indicatif::{ProgressBar, ProgressStyle};
 use ophis::checkpoint::{hash_bytes, RenderState, StateInfo};
 use ophis::film::Film;
+use ophis::gallery::XENOPELTIS_XML;
 use ophis::image_io::{write_exr, write_png, RgbImage};
 use ophis::integrator::PathStrategy;
 use ophis::merge::{encode_tile_spp, film_tile_spp, KEY_SAMPLES, KEY_SEED, KEY_SPP, KEY_TILE_SPP};
 use ophis::render::{render_with, Progress, RenderControl, RenderOptions, TileOrder};
-use ophis::scene::build::{load_scene, LoadOptions};
+use ophis::scene::build::{load_scene, load_scene_str, LoadOptions};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Duration;
 
+/// The scene path that stands for the built-in Xenopeltis scene (also in render states).
+const BUILTIN: &str = "<built-in>/xenopeltis.xml";
+
 /// Arguments of `ophis render`.
 #[derive(Parser)]
 pub struct RenderArgs {
-    /// The scene file (Mitsuba XML, version 3.x or 0.6). Optional with `--resume`, which
-    /// remembers it; if given, it must be the same file.
-    #[arg(required_unless_present = "resume")]
+    /// The scene file (Mitsuba XML, version 3.x or 0.6). Without one (and without `--resume`,
+    /// which remembers it), the built-in Xenopeltis scene is rendered to `xenopeltis.png` and
+    /// `.exr` (its XML is `scenes/xenopeltis.xml`; `-D` sets its parameters).
     scene: Option<PathBuf>,
     /// Output path: `x.exr` or `x.png` writes one file; a name without either extension writes
     /// both `name.exr` and `name.png`. Default: the scene's file name in the current directory.
@@ -144,6 +148,9 @@ struct Plan {
 
 /// Reads the scene file once, for its hash (the loader reads it again; scenes are small).
 fn scene_hash(path: &Path) -> Result<u64> {
+    if path == Path::new(BUILTIN) {
+        return Ok(hash_bytes(XENOPELTIS_XML.as_bytes()));
+    }
     if path.is_dir() {
         bail!("{}: is a directory, not a scene file", path.display());
     }
@@ -160,12 +167,13 @@ fn plan(args: &RenderArgs, defines: Vec<(String, String)>, base: &Path) -> Resul
         })
     };
     let Some(resume) = &args.resume else {
-        let scene = args
-            .scene
-            .clone()
-            .expect("clap requires a scene without --resume");
+        let scene = args.scene.clone().unwrap_or_else(|| PathBuf::from(BUILTIN));
         let hash = scene_hash(&scene)?;
-        let scene_abs = std::path::absolute(&scene).unwrap_or_else(|_| scene.clone());
+        let scene_abs = if scene == Path::new(BUILTIN) {
+            scene.clone()
+        } else {
+            std::path::absolute(&scene).unwrap_or_else(|_| scene.clone())
+        };
         return Ok(Plan {
             scene,
             info: StateInfo {
@@ -253,7 +261,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
     }
     let scene_arg = args.scene.clone().or_else(|| args.resume.clone());
     let base = output_base(
-        scene_arg.as_deref().unwrap_or(Path::new("render")),
+        scene_arg.as_deref().unwrap_or(Path::new("xenopeltis.xml")),
         args.output.as_deref(),
     );
     let mut plan = plan(&args, defines, &base)?;
@@ -275,8 +283,16 @@ pub fn run(args: RenderArgs) -> Result<()> {
         defines: plan.info.defines.clone(),
         spp: (plan.info.spp > 0).then_some(plan.info.spp),
         seed: (args.seed.is_some() || args.resume.is_some()).then_some(plan.info.seed),
+        ..Default::default()
     };
-    let (scene, warnings) = load_scene(&plan.scene, &load_opts)?;
+    let (scene, warnings) = if plan.scene == Path::new(BUILTIN) {
+        if !args.quiet {
+            eprintln!("rendering the built-in Xenopeltis scene (scenes/xenopeltis.xml)");
+        }
+        load_scene_str(XENOPELTIS_XML, Path::new("xenopeltis.xml"), &load_opts)?
+    } else {
+        load_scene(&plan.scene, &load_opts)?
+    };
     for w in &warnings {
         eprintln!("warning: {w}");
     }

@@ -34,6 +34,8 @@ pub struct LoadOptions {
     pub spp: Option<u32>,
     /// Seed, overriding the scene's sampler.
     pub seed: Option<u64>,
+    /// Image width and height, overriding the scene's film (e.g. tiny renders in tests).
+    pub resolution: Option<(u32, u32)>,
 }
 
 /// Largest image side accepted; beyond this a film is almost certainly a typo, and its buffers
@@ -114,9 +116,9 @@ fn build_scene(
     }
 
     let (camera, width, height, filter, mut sampler) = match sensor {
-        Some(s) => build_sensor(s, warnings)?,
+        Some(s) => build_sensor(s, opts.resolution, warnings)?,
         None => {
-            let (w, h) = (768, 576);
+            let (w, h) = opts.resolution.unwrap_or((768, 576));
             let cam =
                 PerspectiveCamera::new(Transform::IDENTITY, 45.0, FovAxis::X, w, h, 1e-2, 1e4);
             (
@@ -213,7 +215,11 @@ fn build_integrator(
 
 type SensorParts = (PerspectiveCamera, u32, u32, Filter, SamplerSettings);
 
-fn build_sensor(node: &Node, warnings: &mut Vec<Warning>) -> Result<SensorParts, SceneError> {
+fn build_sensor(
+    node: &Node,
+    resolution: Option<(u32, u32)>,
+    warnings: &mut Vec<Warning>,
+) -> Result<SensorParts, SceneError> {
     if node.plugin != "perspective" {
         warnings.push(Warning {
             loc: node.loc.clone(),
@@ -322,6 +328,9 @@ fn build_sensor(node: &Node, warnings: &mut Vec<Warning>) -> Result<SensorParts,
         "greater than near_clip",
     )?;
     let to_world = node.props.get_transform("to_world", Transform::IDENTITY)?;
+    if let Some((w, h)) = resolution {
+        (width, height) = (w.max(1), h.max(1));
+    }
     let cam = PerspectiveCamera::new(to_world, fov, axis, width, height, near, far);
     Ok((cam, width, height, filter, sampler))
 }
