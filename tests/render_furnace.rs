@@ -88,3 +88,33 @@ fn furnace_holds_for_each_strategy() {
     check(0.5, -1, PathStrategy::LightOnly);
     check(0.5, -1, PathStrategy::BsdfOnly);
 }
+
+/// A diffuse plane under a uniform sky reflects ρ·L everywhere, however large it is. A
+/// kilometre-wide ground rectangle (two triangles with coordinates ~1000) catches rays that leave
+/// it at grazing angles and wrongly re-hit it at tiny distances if the triangle test ignores its
+/// own rounding error: the ground then darkens, unevenly across the two triangles.
+#[test]
+fn kilometre_ground_plane_reflects_rho_times_sky() {
+    let xml = r#"<scene version="3.0.0">
+    <integrator type="path"><integer name="max_depth" value="2"/></integrator>
+    <sensor type="perspective"><float name="fov" value="60"/>
+        <transform name="to_world"><lookat origin="0,40,60" target="0,0,0" up="0,1,0"/></transform>
+        <sampler type="independent"><integer name="sample_count" value="32"/></sampler>
+        <film type="hdrfilm"><integer name="width" value="32"/><integer name="height" value="24"/>
+            <rfilter type="box"/></film></sensor>
+    <emitter type="constant"><rgb name="radiance" value="1"/></emitter>
+    <shape type="rectangle"><transform name="to_world"><scale value="1000"/><rotate x="1" angle="-90"/></transform>
+        <bsdf type="diffuse"><rgb name="reflectance" value="0.5"/></bsdf></shape>
+</scene>"#;
+    let sc = scene(xml);
+    let img = render_rgb(&sc, 32, PathStrategy::Mis);
+    // Every pixel sees the ground (the horizon is above the image's top edge).
+    for half in [0..img.len() / 2, img.len() / 2..img.len()] {
+        let vals: Vec<f64> = img[half].iter().map(|p| p[1] as f64).collect();
+        let (m, se) = mean_stderr(&vals);
+        assert!(
+            (m - 0.5).abs() <= 4.0 * se + 1e-5,
+            "mean {m} ± {se}, expected 0.5"
+        );
+    }
+}

@@ -454,7 +454,32 @@ pub fn intersect_watertight_sheared(
     if !(t > 0.0 && t < ray.t_max) {
         return None;
     }
+    // Reject hits closer than the rounding error of t itself (the forward error bound of the
+    // watertight test, Woop et al. 2013 with the analysis of Pharr, Jakob & Humphreys,
+    // "Physically Based Rendering" 3rd ed., §3.9.6). Without it, a ray leaving a large flat
+    // triangle at a grazing angle could re-hit its neighbour at t ≈ 1e-3: a false shadow edge
+    // along the diagonal of a kilometre-wide ground rectangle.
+    let max_zt = az.abs().max(bz.abs()).max(cz.abs());
+    let max_xt = ax.abs().max(bx.abs()).max(cx.abs());
+    let max_yt = ay.abs().max(by.abs()).max(cy.abs());
+    let delta_z = gamma(3) * max_zt;
+    let delta_x = gamma(5) * (max_xt + max_zt);
+    let delta_y = gamma(5) * (max_yt + max_zt);
+    let delta_e = 2.0 * (gamma(2) * max_xt * max_yt + delta_y * max_xt + delta_x * max_yt);
+    let max_e = u.abs().max(v.abs()).max(w.abs());
+    let delta_t =
+        3.0 * (gamma(3) * max_e * max_zt + delta_e * max_zt + delta_z * max_e) * inv.abs();
+    if t <= delta_t {
+        return None;
+    }
     Some((t, Vec2::new(v * inv, w * inv)))
+}
+
+/// Bound on the relative rounding error of n chained f32 operations: nε/(1 − nε).
+#[inline]
+fn gamma(n: i32) -> f32 {
+    let e = f32::EPSILON * 0.5 * n as f32;
+    e / (1.0 - e)
 }
 
 #[cfg(test)]
