@@ -6,21 +6,25 @@
 //! rayon. Past depth [`MEDIAN_DEPTH`] nodes split at the object median, which bounds the depth
 //! (and so the traversal stack) even for adversarial inputs.
 //!
-//! Layout: a flat array of 32-byte nodes; an interior node's two children are adjacent.
-//! Traversal is iterative with a fixed stack, visits the nearer child first and skips popped
-//! nodes whose entry distance is beyond the closest hit so far. No allocation per ray.
+//! Layout: the binary tree is kept as a flat array of 32-byte nodes (an interior node's two
+//! children adjacent) and collapsed into 4-wide nodes ([`super::wide`]) for traversal: one ray
+//! against four boxes with SIMD, children visited nearest first, popped entries beyond the
+//! closest hit so far skipped, a fixed stack, no allocation per ray. Triangle corners are copied
+//! in leaf order so leaf tests read contiguous memory.
+use super::wide::{collapse, splat3, Binary, Node4};
 use super::Accel;
 use crate::math::{Bounds3, Ray, Vec3};
 use crate::shape::mesh::intersect_watertight_sheared;
 use crate::shape::{Hit, Shape};
-use glam::Vec3A;
 
 /// Largest number of primitives in a leaf.
 pub const MAX_LEAF: usize = 4;
 /// Depth from which nodes split at the object median.
 pub const MEDIAN_DEPTH: usize = 64;
 const BINS: usize = 16;
-const STACK: usize = 128;
+// A 4-wide node pushes at most 4 entries per level, and the tree is at most
+// MEDIAN_DEPTH + a few levels deep.
+const STACK: usize = 4 * (MEDIAN_DEPTH + 8);
 /// Cost of a traversal step relative to one primitive test.
 const TRAVERSAL_COST: f32 = 1.0;
 /// Below this many primitives a subtree is built on the current thread.
@@ -39,20 +43,6 @@ pub struct Node {
 
 const _: () = assert!(std::mem::size_of::<Node>() == 32);
 
-impl Node {
-    /// Slab test; the entry distance when the box overlaps (0, t_max).
-    #[inline(always)]
-    fn hit(&self, o: Vec3A, inv_d: Vec3A, t_max: f32) -> Option<f32> {
-        // SIMD (Vec3A) slab test: the scalar version was the largest item in profiles.
-        let t0 = (Vec3A::from(self.min) - o) * inv_d;
-        let t1 = (Vec3A::from(self.max) - o) * inv_d;
-        let near = t0.min(t1).max_element().max(0.0);
-        // Widen the exit a little so rounding never drops a box that a primitive inside is hit in.
-        let far = t0.max(t1).min_element().min(t_max) * (1.0 + 3.0 * f32::EPSILON);
-        (near <= far).then_some(near)
-    }
-}
-
 /// The BVH; see the module header.
 #[derive(Clone, Debug, Default)]
 pub struct Bvh {
@@ -63,6 +53,8 @@ pub struct Bvh {
     /// tests read contiguous memory instead of chasing mesh indices (`None` for analytic
     /// primitives). Costs 36 bytes per triangle.
     tris: Vec<Option<[Vec3; 3]>>,
+    /// The same tree collapsed to 4-wide nodes, which traversal uses.
+    wide: Vec<Node4>,
     depth: usize,
 }
 
@@ -110,10 +102,23 @@ impl Bvh {
                 _ => None,
             })
             .collect();
+        let binary: Vec<Binary> = nodes
+            .iter()
+            .map(|n| Binary {
+                bounds: Bounds3 {
+                    min: n.min,
+                    max: n.max,
+                },
+                offset: n.offset,
+                count: n.count,
+            })
+            .collect();
+        let wide = collapse(&binary);
         Bvh {
             nodes,
             prims,
             tris,
+            wide,
             depth,
         }
     }
@@ -141,25 +146,35 @@ impl Bvh {
         })
     }
 
-    /// Shared traversal; `any` stops at the first hit.
+    /// Shared traversal of the 4-wide tree; `any` stops at the first hit.
+    ///
+    /// The stack holds (child, primitive count, entry distance) entries; interior children are
+    /// pushed far-to-near so the nearest is taken next, and entries beyond the closest hit so
+    /// far are skipped when popped. No allocation per ray.
     #[inline]
     fn traverse(&self, shapes: &[Shape], ray: &Ray, any: bool) -> Option<Hit> {
-        let root = self.nodes.first()?;
-        let inv_d = Vec3A::from(ray.d.recip());
-        let ro = Vec3A::from(ray.o);
+        if self.wide.is_empty() {
+            return None;
+        }
+        let sr = crate::shape::mesh::ShearedRay::new(ray.d)?;
+        let o = splat3(ray.o);
+        let inv_d = splat3(ray.d.recip());
         let mut r = *ray;
         let mut best = None;
-        let sr = crate::shape::mesh::ShearedRay::new(ray.d)?;
-        // Left uninitialised: zeroing 1 KiB per ray showed in profiles; only pushed slots are read.
-        let mut stack = [const { std::mem::MaybeUninit::<(u32, f32)>::uninit() }; STACK];
-        let mut sp = 0usize;
-        root.hit(ro, inv_d, r.t_max)?;
-        let mut node = 0usize;
-        loop {
-            let n = &self.nodes[node];
-            if n.count > 0 {
-                let start = n.offset as usize;
-                let end = start + n.count as usize;
+        // Left uninitialised: zeroing it per ray showed in profiles; only pushed slots are read.
+        let mut stack = [const { std::mem::MaybeUninit::<(u32, u32, f32)>::uninit() }; STACK];
+        stack[0].write((0, 0, 0.0));
+        let mut sp = 1usize;
+        while sp > 0 {
+            sp -= 1;
+            // SAFETY: slots below `sp` were all written by a push.
+            let (child, count, t_enter) = unsafe { stack[sp].assume_init() };
+            if t_enter > r.t_max {
+                continue;
+            }
+            if count > 0 {
+                let start = child as usize;
+                let end = start + count as usize;
                 for (&(s, p), tri) in self.prims[start..end].iter().zip(&self.tris[start..end]) {
                     let hit = match tri {
                         Some([a, b, c]) => intersect_watertight_sheared(*a, *b, *c, &r, &sr),
@@ -178,47 +193,34 @@ impl Bvh {
                         }
                     }
                 }
-            } else {
-                let a = n.offset as usize;
-                let ha = self.nodes[a].hit(ro, inv_d, r.t_max);
-                let hb = self.nodes[a + 1].hit(ro, inv_d, r.t_max);
-                match (ha, hb) {
-                    (Some(ta), Some(tb)) => {
-                        let (near, far, tfar) = if ta <= tb {
-                            (a, a + 1, tb)
-                        } else {
-                            (a + 1, a, ta)
-                        };
-                        stack[sp].write((far as u32, tfar));
-                        sp += 1;
-                        node = near;
-                        continue;
-                    }
-                    (Some(_), None) => {
-                        node = a;
-                        continue;
-                    }
-                    (None, Some(_)) => {
-                        node = a + 1;
-                        continue;
-                    }
-                    (None, None) => {}
-                }
+                continue;
             }
-            // Pop the next node that can still hold a closer hit.
-            loop {
-                if sp == 0 {
-                    return best;
+            let node = &self.wide[child as usize];
+            let (near, hits) = node.hit(&o, &inv_d, r.t_max);
+            // Empty lanes hold inverted boxes, which a ray with mixed direction signs can still
+            // "hit": mask them out.
+            let mut mask = hits & node.valid;
+            // Hit lanes sorted by entry distance, far first, so the nearest is popped next.
+            let mut lanes = [(0usize, 0.0f32); 4];
+            let mut n = 0;
+            while mask != 0 {
+                let lane = mask.trailing_zeros() as usize;
+                mask &= mask - 1;
+                let t = near[lane];
+                let mut j = n;
+                while j > 0 && lanes[j - 1].1 < t {
+                    lanes[j] = lanes[j - 1];
+                    j -= 1;
                 }
-                sp -= 1;
-                // SAFETY: slots below `sp` were all written by the push above.
-                let (next, t_enter) = unsafe { stack[sp].assume_init() };
-                if t_enter <= r.t_max {
-                    node = next as usize;
-                    break;
-                }
+                lanes[j] = (lane, t);
+                n += 1;
+            }
+            for &(lane, t) in &lanes[..n] {
+                stack[sp].write((node.child[lane], node.count[lane], t));
+                sp += 1;
             }
         }
+        best
     }
 }
 

@@ -7,6 +7,7 @@ use crate::shape::{Hit, Shape};
 
 pub mod brute;
 pub mod bvh;
+pub mod wide;
 
 pub use brute::BruteForce;
 pub use bvh::Bvh;
