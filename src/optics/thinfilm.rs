@@ -68,6 +68,63 @@ fn layer_cos(n: C, n0_sin0: f64) -> C {
 /// (`cos_theta0` ∈ [0, 1]), film index `n1` (may be complex), film thickness `d_nm`, inner
 /// medium `n2` (complex n + ik allowed, k ≥ 0 absorbing), at vacuum wavelength `lambda_nm`.
 pub fn film_rt(cos_theta0: f64, n0: f64, n1: C, d_nm: f64, n2: C, lambda_nm: f64) -> FilmRt {
+    if let Some(rt) = film_rt_propagating(cos_theta0, n0, n1, d_nm, n2, lambda_nm) {
+        return rt;
+    }
+    film_rt_complex(cos_theta0, n0, n1, d_nm, n2, lambda_nm)
+}
+
+/// The common case in real arithmetic: real indices and a wave that propagates in the film and
+/// the base (no total internal reflection, no absorption). The amplitudes r01, r12 are then
+/// real and the Airy sum reduces to
+/// R = (r01² + r12² + 2 r01 r12 cos 2δ) / (1 + r01² r12² + 2 r01 r12 cos 2δ), with T = 1 − R.
+/// Same formula as the complex path, one cosine instead of complex exponentials and divisions
+/// (the BSDFs evaluate films several times per path vertex). `None` outside that case.
+#[inline]
+fn film_rt_propagating(
+    cos_theta0: f64,
+    n0: f64,
+    n1: C,
+    d_nm: f64,
+    n2: C,
+    lambda_nm: f64,
+) -> Option<FilmRt> {
+    if n1.im != 0.0 || n2.im != 0.0 || !(cos_theta0 > 0.0) || d_nm == 0.0 {
+        return None;
+    }
+    let (n1, n2) = (n1.re, n2.re);
+    let cos0 = cos_theta0.min(1.0);
+    let s2 = (n0 * n0) * (1.0 - cos0 * cos0);
+    let c1sq = 1.0 - s2 / (n1 * n1);
+    let c2sq = 1.0 - s2 / (n2 * n2);
+    if !(c1sq > 0.0 && c2sq > 0.0 && n1 > 0.0 && n2 > 0.0) {
+        return None;
+    }
+    let (c1, c2) = (c1sq.sqrt(), c2sq.sqrt());
+    let cos2d = (4.0 * std::f64::consts::PI * n1 * d_nm * c1 / lambda_nm).cos();
+    let airy = |r01: f64, r12: f64| {
+        let x = 2.0 * r01 * r12 * cos2d;
+        let r = (r01 * r01 + r12 * r12 + x) / (1.0 + r01 * r01 * r12 * r12 + x);
+        r.clamp(0.0, 1.0)
+    };
+    let r_s = airy(
+        (n0 * cos0 - n1 * c1) / (n0 * cos0 + n1 * c1),
+        (n1 * c1 - n2 * c2) / (n1 * c1 + n2 * c2),
+    );
+    let r_p = airy(
+        (n1 * cos0 - n0 * c1) / (n1 * cos0 + n0 * c1),
+        (n2 * c1 - n1 * c2) / (n2 * c1 + n1 * c2),
+    );
+    Some(FilmRt {
+        r_s,
+        r_p,
+        t_s: 1.0 - r_s,
+        t_p: 1.0 - r_p,
+    })
+}
+
+/// The general case: complex amplitudes and cosines.
+fn film_rt_complex(cos_theta0: f64, n0: f64, n1: C, d_nm: f64, n2: C, lambda_nm: f64) -> FilmRt {
     let cos0 = cos_theta0.clamp(0.0, 1.0);
     let sin0 = (1.0 - cos0 * cos0).max(0.0).sqrt();
     let n0c = C::new(n0, 0.0);
@@ -347,5 +404,34 @@ mod tests {
                 );
             }
         }
+    }
+
+    #[test]
+    fn real_fast_path_equals_the_complex_airy_sum() {
+        let mut seed = 99u64;
+        let mut next = || {
+            seed = crate::math::rng::mix64(seed);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut used = 0;
+        for _ in 0..5000 {
+            let (cos, n0, n1, n2) = (next(), 1.0 + next(), 1.0 + 1.5 * next(), 1.0 + 1.5 * next());
+            let (d, l) = (2000.0 * next(), 360.0 + 470.0 * next());
+            let (n1, n2) = (C::new(n1, 0.0), C::new(n2, 0.0));
+            let full = film_rt_complex(cos, n0, n1, d, n2, l);
+            if let Some(fast) = film_rt_propagating(cos, n0, n1, d, n2, l) {
+                used += 1;
+                for (a, b) in [
+                    (fast.r_s, full.r_s),
+                    (fast.r_p, full.r_p),
+                    (fast.t_s, full.t_s),
+                    (fast.t_p, full.t_p),
+                ] {
+                    assert!((a - b).abs() < 1e-9, "{fast:?} vs {full:?}");
+                }
+            }
+        }
+        // Most random stacks propagate; the rest (TIR in the film or base) take the complex path.
+        assert!(used > 2500, "fast path used {used} times");
     }
 }
