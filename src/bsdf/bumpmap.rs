@@ -97,6 +97,15 @@ pub fn keep_visible(n: Vec3, ng: Vec3, wo: Vec3) -> Vec3 {
 }
 
 /// Width a pixel covers on the surface in UV units, per axis, for a world-space footprint
+/// Where a `normalmap` takes its tangent-space normals from.
+#[derive(Clone, Debug)]
+pub enum NormalSource {
+    /// The slope of a `scales` relief.
+    Scales(std::sync::Arc<crate::texture::Scales>),
+    /// An image (`bitmap`, usually with `raw="true"`): n = 2·rgb − 1.
+    Bitmap(std::sync::Arc<crate::texture::Bitmap>),
+}
+
 /// `width` seen at cosine `cos` to the normal.
 pub fn uv_footprint(si: &SurfaceInteraction, width: f32, cos: f32) -> Vec2 {
     let w = width / cos.abs().max(0.05);
@@ -152,20 +161,40 @@ impl Material {
                 Some((apply_cell_tilt(height, n, s, si.uv), s))
             }
             Material::NormalMap {
-                cells,
+                source,
                 strength,
                 inner,
             } => {
                 let (n0, s0) = inner
                     .perturbed_normal(si, wo, width, front_side)
                     .unwrap_or((si.ns, si.dpdu));
-                let local = scales_tangent_normal(cells, si.uv, fp(), *strength);
+                let local = match source {
+                    NormalSource::Scales(cells) => {
+                        scales_tangent_normal(cells, si.uv, fp(), *strength)
+                    }
+                    // Mitsuba's convention: the texel's RGB in [0, 1] encodes n = 2·rgb − 1.
+                    NormalSource::Bitmap(b) => {
+                        let c = b.rgb(si.uv);
+                        let n = Vec3::new(2.0 * c[0] - 1.0, 2.0 * c[1] - 1.0, 2.0 * c[2] - 1.0);
+                        let n = Vec3::new(n.x * strength, n.y * strength, n.z);
+                        if n.z > 0.0 && n.is_finite() {
+                            n.normalize()
+                        } else {
+                            Vec3::Z
+                        }
+                    }
+                };
                 let f = Frame::from_normal_tangent(n0, s0);
                 // y follows ∂p/∂v, whichever handedness the UV map has.
                 let t = if f.t.dot(si.dpdv) < 0.0 { -f.t } else { f.t };
                 let n = (f.s * local.x + t * local.y + n0 * local.z).normalize();
-                let (a, phi) = cells.tilt_at(si.uv);
-                Some((tilt(n, f.s, a, phi), f.s))
+                match source {
+                    NormalSource::Scales(cells) => {
+                        let (a, phi) = cells.tilt_at(si.uv);
+                        Some((tilt(n, f.s, a, phi), f.s))
+                    }
+                    NormalSource::Bitmap(_) => Some((n, f.s)),
+                }
             }
             Material::TwoSided { front, back } => {
                 let m = match back {

@@ -113,9 +113,9 @@ pub enum Material {
         scale: f32,
         inner: Box<Material>,
     },
-    /// `normalmap` with a `scales` relief as the tangent-space normal source.
+    /// `normalmap`: a tangent-space normal from an image or a `scales` relief.
     NormalMap {
-        cells: std::sync::Arc<crate::texture::Scales>,
+        source: super::bumpmap::NormalSource,
         strength: f32,
         inner: Box<Material>,
     },

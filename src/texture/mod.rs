@@ -4,9 +4,11 @@ use crate::math::{Mat3, Vec2, Vec3};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
 use std::sync::Arc;
 
+pub mod bitmap;
 pub mod per_scale;
 pub mod scales;
 
+pub use bitmap::Bitmap;
 pub use per_scale::PerScale;
 pub use scales::Scales;
 
@@ -28,6 +30,8 @@ pub enum SpectrumTexture {
         color1: Spectrum,
         to_uv: Mat3,
     },
+    /// `bitmap`: an image.
+    Bitmap(Arc<Bitmap>),
     /// `scales` read as a colour: `color0` on the scales, `color1` in the grooves.
     Scales {
         cells: Arc<Scales>,
@@ -58,6 +62,7 @@ impl SpectrumTexture {
                     color1.sample(wl)
                 }
             }
+            SpectrumTexture::Bitmap(b) => b.spectrum(tc.uv, wl),
             SpectrumTexture::Scales {
                 cells,
                 color0,
@@ -73,6 +78,7 @@ impl SpectrumTexture {
     pub fn max_value(&self) -> f32 {
         match self {
             SpectrumTexture::Constant(s) => s.max_value(),
+            SpectrumTexture::Bitmap(b) => b.max_value(),
             SpectrumTexture::Checkerboard { color0, color1, .. }
             | SpectrumTexture::Scales { color0, color1, .. } => {
                 color0.max_value().max(color1.max_value())
@@ -92,6 +98,8 @@ pub enum FloatTexture {
         color1: f32,
         to_uv: Mat3,
     },
+    /// `bitmap` read as a float (mean of the channels).
+    Bitmap(Arc<Bitmap>),
     /// `scales` read as a float: the height of the relief in [0, 1].
     Scales(Arc<Scales>),
     /// `per_scale`: a value per scale.
@@ -115,6 +123,7 @@ impl FloatTexture {
                     *color1
                 }
             }
+            FloatTexture::Bitmap(b) => b.value(tc.uv),
             FloatTexture::Scales(s) => s.height(tc.uv, 0.0),
             FloatTexture::PerScale(p) => p.eval(tc.uv),
         }
@@ -134,6 +143,15 @@ impl FloatTexture {
     pub fn gradient(&self, tc: &TexCoord, footprint: Vec2) -> Vec2 {
         match self {
             FloatTexture::Scales(s) => s.gradient(tc.uv, s.cells_across(footprint)),
+            FloatTexture::Bitmap(b) => {
+                // Central differences over one texel.
+                let (du, dv) = (1.0 / b.width as f32, 1.0 / b.height as f32);
+                let f = |d: Vec2| b.value(tc.uv + d);
+                Vec2::new(
+                    (f(Vec2::new(du, 0.0)) - f(Vec2::new(-du, 0.0))) / (2.0 * du),
+                    (f(Vec2::new(0.0, dv)) - f(Vec2::new(0.0, -dv))) / (2.0 * dv),
+                )
+            }
             _ => Vec2::ZERO,
         }
     }

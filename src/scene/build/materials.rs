@@ -7,9 +7,11 @@ use super::Builder;
 use crate::bsdf::material::{ConductorIor, DEFAULT_ALPHA, PLASTIC_INT_IOR};
 use crate::bsdf::microfacet::MicrofacetType;
 use crate::bsdf::Material;
+use crate::image_io::read_image;
 use crate::math::{Mat3, Vec3};
 use crate::scene::mitsuba::{Node, SceneError, Tag, Warning};
 use crate::spectrum::{ior as named_ior, Spectrum};
+use crate::texture::bitmap::{Bitmap, Wrap};
 use crate::texture::{FloatTexture, SpectrumTexture};
 use std::sync::Arc;
 
@@ -256,10 +258,12 @@ fn texture(tex: &Node, kind: SpectrumKind) -> Result<SpectrumTexture, SceneError
             color1: spectrum(tex, "color1", kind, Spectrum::Constant(0.2))?,
             to_uv: uv_transform(tex)?,
         }),
+        "bitmap" => Ok(SpectrumTexture::Bitmap(bitmap(tex)?)),
         other => Err(SceneError::at(
             &tex.loc,
             format!(
-                "texture '{other}' is not supported by ophis (supported: checkerboard, scales)"
+                "texture '{other}' is not supported by ophis (supported: bitmap, checkerboard, \
+                 scales, per_scale)"
             ),
         )),
     }
@@ -289,6 +293,7 @@ pub(super) fn float_texture(
                     to_uv: uv_transform(tex)?,
                 })
             }
+            "bitmap" => Ok(FloatTexture::Bitmap(bitmap(tex)?)),
             other => Err(SceneError::at(
                 &tex.loc,
                 format!("texture '{other}' is not supported for '{name}'"),
@@ -303,4 +308,58 @@ pub(super) fn float_texture(
         "between 0 and 10",
     )?;
     Ok(FloatTexture::Constant(v))
+}
+
+/// Mitsuba's `bitmap` texture (see `src/texture/bitmap.rs` for its parameters).
+pub(super) fn bitmap(tex: &Node) -> Result<Arc<Bitmap>, SceneError> {
+    let Some(path) = tex.props.get_path_opt("filename")? else {
+        return Err(SceneError::at(&tex.loc, "bitmap needs a 'filename'"));
+    };
+    let loc = tex
+        .props
+        .location("filename")
+        .cloned()
+        .unwrap_or_else(|| tex.loc.clone());
+    let mut image = read_image(&path).map_err(|e| SceneError::at(&loc, format!("bitmap: {e}")))?;
+    let raw = tex.props.get_bool("raw", false)?;
+    let is_png = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("png"));
+    if raw && is_png {
+        // PNGs are read as sRGB-encoded colour; raw data (normal maps) keeps the stored values.
+        for c in &mut image.data {
+            *c = c.map(crate::spectrum::cie::srgb_encode);
+        }
+    }
+    let filter = tex.props.get_string("filter_type", "bilinear")?;
+    let bilinear = match filter.as_str() {
+        "bilinear" => true,
+        "nearest" => false,
+        other => {
+            let l = tex.props.location("filter_type").unwrap_or(&tex.loc);
+            return Err(SceneError::at(
+                l,
+                format!("filter_type must be 'bilinear' or 'nearest', got '{other}'"),
+            ));
+        }
+    };
+    let wrap = match tex.props.get_string("wrap_mode", "repeat")?.as_str() {
+        "repeat" => Wrap::Repeat,
+        "mirror" => Wrap::Mirror,
+        "clamp" => Wrap::Clamp,
+        other => {
+            let l = tex.props.location("wrap_mode").unwrap_or(&tex.loc);
+            return Err(SceneError::at(
+                l,
+                format!("wrap_mode must be 'repeat', 'mirror' or 'clamp', got '{other}'"),
+            ));
+        }
+    };
+    Ok(Arc::new(Bitmap::new(
+        image,
+        bilinear,
+        wrap,
+        uv_transform(tex)?,
+    )))
 }

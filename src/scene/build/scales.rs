@@ -4,6 +4,7 @@
 
 use super::materials::{build_material, float_texture};
 use super::values::{checked_float, checked_int, spectrum, SpectrumKind};
+use crate::bsdf::bumpmap::NormalSource;
 use crate::bsdf::Material;
 use crate::math::Vec2;
 use crate::scene::mitsuba::{Node, SceneError, Tag, Warning};
@@ -178,17 +179,18 @@ pub(crate) fn bumpmap(node: &Node, warnings: &mut Vec<Warning>) -> Result<Materi
     })
 }
 
-/// `normalmap`: a nested `scales` texture as the tangent-space normal source, and a BSDF.
+/// `normalmap`: a nested `bitmap` (tangent-space normal map) or `scales` texture, and a BSDF.
 pub(crate) fn normalmap(node: &Node, warnings: &mut Vec<Warning>) -> Result<Material, SceneError> {
     let textures: Vec<&Arc<Node>> = node.children_with_tag(Tag::Texture).collect();
-    let cells = match textures.as_slice() {
-        [t] if is_scales(&t.plugin) => scales(t)?,
+    let source = match textures.as_slice() {
+        [t] if is_scales(&t.plugin) => NormalSource::Scales(Arc::new(scales(t)?)),
+        [t] if t.plugin == "bitmap" => NormalSource::Bitmap(super::materials::bitmap(t)?),
         [t] => {
             return Err(SceneError::at(
                 &t.loc,
                 format!(
-                    "normalmap: texture '{}' cannot supply normals (ophis has no bitmap texture \
-                     yet; use a 'scales' texture)",
+                    "normalmap: texture '{}' cannot supply normals (use a 'bitmap' or a 'scales' \
+                     texture)",
                     t.plugin
                 ),
             ))
@@ -202,7 +204,7 @@ pub(crate) fn normalmap(node: &Node, warnings: &mut Vec<Warning>) -> Result<Mate
     };
     let strength = checked_float(node, "strength", 1.0, |v| v.is_finite(), "a finite number")?;
     Ok(Material::NormalMap {
-        cells: Arc::new(cells),
+        source,
         strength,
         inner: Box::new(nested_bsdf(node, warnings)?),
     })
