@@ -209,7 +209,8 @@ pub(crate) fn film_integrals_1(
 /// costs ~50 µs per shading point. The integrals are smooth in λ and d (fringe periods are tens
 /// of nm for films up to a few µm), so linear interpolation over 1 nm errs by ~(2π·1/P)²/8
 /// relative, P the fringe period: < 1e-3 for P ≥ 70 nm. The film index is rounded to 1e-4
-/// for the table key (a phase change below 2e-3 rad for d ≤ 2 µm).
+/// for the table key (a phase change below 2e-3 rad for d ≤ 2 µm) and the optical depth τ to
+/// 1e-3 (|ΔE/E| ≤ 5e-4 · E[1/μ] ≈ 1e-3 for the cosine-weighted escape integral).
 fn film_integrals_tabulated(
     coat: CoatOptics,
     tau: SampledSpectrum,
@@ -241,6 +242,9 @@ fn film_integrals_tabulated(
         let (d0, fd) = (d.floor(), d - d.floor());
         for i in 0..N {
             let film_q = (film_ior[i] * 1e4).round() as i32;
+            // τ usually varies with λ (an RGB σ is uplifted to a smooth spectrum), so it is
+            // rounded to 1e-3 for the key, or the table would never hit.
+            let tau_q = (tau[i].max(0.0) * 1e3).round() as u32;
             let l = lambda[i];
             let (l0, fl) = (l.floor(), l - l.floor());
             let mut acc = [0.0f32; 3];
@@ -253,7 +257,7 @@ fn film_integrals_tabulated(
                     let key = (
                         eta.to_bits(),
                         film_q,
-                        tau[i].to_bits(),
+                        tau_q,
                         (d0 + dd) as i32,
                         (l0 + dl) as i32,
                     );
@@ -263,7 +267,7 @@ fn film_integrals_tabulated(
                             film_q as f64 * 1e-4,
                             (d0 + dd) as f64,
                             (l0 + dl) as f64,
-                            tau[i] as f64,
+                            tau_q as f64 * 1e-3,
                         );
                         (e as f32, r as f32, k as f32)
                     });
