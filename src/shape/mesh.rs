@@ -353,12 +353,14 @@ pub fn intersect_watertight(p0: Vec3, p1: Vec3, p2: Vec3, ray: &Ray) -> Option<(
 /// and shared by every triangle it meets.
 #[derive(Clone, Copy, Debug)]
 pub struct ShearedRay {
-    kx: usize,
-    ky: usize,
-    kz: usize,
-    sx: f32,
-    sy: f32,
-    sz: f32,
+    /// The permuted axes: `kz` is the dominant direction component.
+    pub(crate) kx: usize,
+    pub(crate) ky: usize,
+    pub(crate) kz: usize,
+    /// The shear: d[kx]/d[kz], d[ky]/d[kz] and 1/d[kz].
+    pub(crate) sx: f32,
+    pub(crate) sy: f32,
+    pub(crate) sz: f32,
 }
 
 impl ShearedRay {
@@ -427,10 +429,9 @@ pub fn intersect_watertight_sheared(
     let mut w = bx * ay - by * ax;
     if u == 0.0 || v == 0.0 || w == 0.0 {
         // On an edge f32 rounding decides the sign; redo the edge functions exactly enough.
-        let f = |x: f32, y: f32, z: f32, q: f32| (x as f64 * y as f64 - z as f64 * q as f64) as f32;
-        u = f(cx, by, cy, bx);
-        v = f(ax, cy, ay, cx);
-        w = f(bx, ay, by, ax);
+        u = edge_f64(cx, by, cy, bx);
+        v = edge_f64(ax, cy, ay, cx);
+        w = edge_f64(bx, ay, by, ax);
     }
     if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
         return None;
@@ -475,9 +476,16 @@ pub fn intersect_watertight_sheared(
     Some((t, Vec2::new(v * inv, w * inv)))
 }
 
+/// The edge function x·y − z·q in f64 (exact products), rounded once: the watertight test's
+/// fallback when the f32 value is zero.
+#[inline]
+pub(crate) fn edge_f64(x: f32, y: f32, z: f32, q: f32) -> f32 {
+    (x as f64 * y as f64 - z as f64 * q as f64) as f32
+}
+
 /// Bound on the relative rounding error of n chained f32 operations: nε/(1 − nε).
 #[inline]
-fn gamma(n: i32) -> f32 {
+pub(crate) fn gamma(n: i32) -> f32 {
     let e = f32::EPSILON * 0.5 * n as f32;
     e / (1.0 - e)
 }
