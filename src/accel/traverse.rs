@@ -11,7 +11,7 @@
 //! instruction set inside `#[target_feature]` wrappers.
 use super::block::{Block, RayLanes};
 use super::build::MEDIAN_DEPTH;
-use super::simd::Vec8;
+use super::simd::{prefetch, Vec8};
 use super::wide::{leaf_range, Node8, EMPTY_CHILD, LEAF};
 use crate::math::{Ray, Vec2};
 use crate::shape::mesh::ShearedRay;
@@ -28,6 +28,18 @@ pub struct View<'a> {
     pub nodes: &'a [Node8],
     pub blocks: &'a [Block],
     pub root: u32,
+}
+
+impl View<'_> {
+    /// Prefetches the memory of child reference `c`: a node, or a leaf's first block.
+    #[inline(always)]
+    fn prefetch(&self, c: u32) {
+        if c & LEAF != 0 {
+            prefetch(self.blocks.as_ptr().wrapping_add(leaf_range(c).0), 3);
+        } else {
+            prefetch(self.nodes.as_ptr().wrapping_add(c as usize), 4);
+        }
+    }
 }
 
 /// The per-ray constants of the box tests.
@@ -79,12 +91,14 @@ pub fn closest<V: Vec8>(v: View, shapes: &[Shape], ray: &Ray) -> Option<(u32, f3
                     continue;
                 }
                 // Sort the children hit by entry distance, far first (t ≥ 0, so its bits order
-                // like the floats); the child reference breaks ties.
+                // like the floats); the child reference breaks ties. Their memory is
+                // requested now, so that the loads overlap.
                 let mut keys = [0u64; 8];
                 let mut n = 0;
                 while mask != 0 {
                     let lane = mask.trailing_zeros() as usize;
                     mask &= mask - 1;
+                    v.prefetch(node.child[lane]);
                     let key = ((near[lane].to_bits() as u64) << 32) | node.child[lane] as u64;
                     let mut j = n;
                     while j > 0 && keys[j - 1] < key {
@@ -146,6 +160,7 @@ pub fn any<V: Vec8>(v: View, shapes: &[Shape], ray: &Ray) -> bool {
                 cur = node.child[mask.trailing_zeros() as usize];
                 mask &= mask - 1;
                 while mask != 0 {
+                    v.prefetch(node.child[mask.trailing_zeros() as usize]);
                     stack[sp].write(node.child[mask.trailing_zeros() as usize]);
                     sp += 1;
                     mask &= mask - 1;
