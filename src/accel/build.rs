@@ -29,6 +29,8 @@ pub const MEDIAN_DEPTH: usize = 64;
 const BINS: usize = 16;
 /// Cost of a binary split (a share of an 8-wide node test) relative to one block test.
 const SPLIT_COST: f32 = 0.35;
+/// A split into a node's free lanes must bring the cost below this fraction of the leaf's.
+const FREE_SPLIT_GAIN: f32 = 0.7;
 /// Below this many refs a subtree is built on the current thread.
 const PARALLEL_MIN: usize = 4096;
 /// From this many refs the bins are filled in parallel chunks of this size.
@@ -200,35 +202,57 @@ fn span_of(refs: &[Ref], start: usize, depth: usize) -> Span {
 /// The subtree over `refs` (the refs of `span`, which starts at global index `span.start`):
 /// a leaf, or an interior node appended to `out` (whose indices are local to `out`).
 fn subtree(refs: &mut [Ref], base: usize, span: Span, out: &mut Vec<BuildNode>) -> Slot {
-    match split(refs, &span) {
+    match split(refs, &span, false) {
         None => leaf(&span),
         Some((l, r)) => Slot::Inner(wide_node(refs, base, l, r, out)),
     }
 }
 
+/// What may still happen to a kid of a node being gathered.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Kid {
+    /// Not yet considered for splitting.
+    Open,
+    /// The cost model made it a leaf; a split into free lanes may still pay.
+    Leaf,
+    /// A leaf for good.
+    Final,
+}
+
 /// Builds the 8-wide node whose range was split into `l` and `r`; returns its index in `out`.
 fn wide_node(refs: &mut [Ref], base: usize, l: Span, r: Span, out: &mut Vec<BuildNode>) -> u32 {
-    // (span, still splittable) in range order.
-    let mut kids: Vec<(Span, bool)> = Vec::with_capacity(8);
-    kids.push((l, true));
-    kids.push((r, true));
+    // Kids in range order, with what may still happen to them.
+    let mut kids: Vec<(Span, Kid)> = Vec::with_capacity(8);
+    kids.push((l, Kid::Open));
+    kids.push((r, Kid::Open));
     while kids.len() < 8 {
-        let Some(i) = (0..kids.len()).filter(|&i| kids[i].1).max_by(|&a, &b| {
-            kids[a]
-                .0
-                .area()
-                .total_cmp(&kids[b].0.area())
-                .then(b.cmp(&a))
-        }) else {
-            break;
+        // Open the largest open kid; once none is left, lanes are free, so split the largest
+        // leaf too if that alone lowers its cost (an empty lane costs nothing to test).
+        let pick = |state: Kid| {
+            (0..kids.len())
+                .filter(|&i| kids[i].1 == state)
+                .max_by(|&a, &b| {
+                    kids[a]
+                        .0
+                        .area()
+                        .total_cmp(&kids[b].0.area())
+                        .then(b.cmp(&a))
+                })
+        };
+        let (i, free) = match (pick(Kid::Open), pick(Kid::Leaf)) {
+            (Some(i), _) => (i, false),
+            (None, Some(i)) => (i, true),
+            (None, None) => break,
         };
         let k = kids[i].0;
         let local = k.start - base;
-        match split(&mut refs[local..local + k.len], &k) {
-            None => kids[i].1 = false,
+        match split(&mut refs[local..local + k.len], &k, free) {
+            None if free => kids[i].1 = Kid::Final,
+            None => kids[i].1 = Kid::Leaf,
             Some((a, b)) => {
-                kids[i] = (a, true);
-                kids.insert(i + 1, (b, true));
+                let state = if free { Kid::Leaf } else { Kid::Open };
+                kids[i] = (a, state);
+                kids.insert(i + 1, (b, state));
             }
         }
     }
@@ -248,16 +272,17 @@ fn wide_node(refs: &mut [Ref], base: usize, l: Span, r: Span, out: &mut Vec<Buil
         rest = tail;
     }
     let mut slots = [Slot::Empty; 8];
-    if total >= PARALLEL_MIN && kids.iter().filter(|k| k.1).count() > 1 {
+    let open = |k: &Kid| *k == Kid::Open;
+    if total >= PARALLEL_MIN && kids.iter().filter(|k| open(&k.1)).count() > 1 {
         let built: Vec<(Slot, Vec<BuildNode>)> = pieces
             .into_par_iter()
             .zip(kids.par_iter())
-            .map(|(piece, &(k, open))| {
+            .map(|(piece, (k, state))| {
                 let mut sub = Vec::new();
-                let slot = if open {
-                    subtree(piece, k.start, k, &mut sub)
+                let slot = if open(state) {
+                    subtree(piece, k.start, *k, &mut sub)
                 } else {
-                    leaf(&k)
+                    leaf(k)
                 };
                 (slot, sub)
             })
@@ -266,11 +291,11 @@ fn wide_node(refs: &mut [Ref], base: usize, l: Span, r: Span, out: &mut Vec<Buil
             slots[lane] = append(out, slot, sub);
         }
     } else {
-        for (lane, (piece, &(k, open))) in pieces.into_iter().zip(&kids).enumerate() {
-            slots[lane] = if open {
-                subtree(piece, k.start, k, out)
+        for (lane, (piece, (k, state))) in pieces.into_iter().zip(&kids).enumerate() {
+            slots[lane] = if open(state) {
+                subtree(piece, k.start, *k, out)
             } else {
-                leaf(&k)
+                leaf(k)
             };
         }
     }
@@ -373,12 +398,19 @@ impl Binner {
     }
 }
 
-/// Splits a span's refs in two (reordering them), or `None` to make it a leaf.
-fn split(refs: &mut [Ref], sp: &Span) -> Option<(Span, Span)> {
+/// Splits a span's refs in two (reordering them), or `None` to make it a leaf. With `free`
+/// the split would go into unused lanes of the current node, so it costs no traversal step.
+fn split(refs: &mut [Ref], sp: &Span, free: bool) -> Option<(Span, Span)> {
     let n = sp.len;
-    // One block tests up to four primitives at the cost of one: splitting them would only add
-    // a box test and a second block.
-    if n <= 4 {
+    if n <= 1 {
+        return None;
+    }
+    // An analytic primitive (sphere, disk) costs far more to test than a box: each gets a leaf
+    // of its own, so that its box culls it.
+    let analytic = n <= MAX_LEAF && refs.iter().any(|r| r.id() & ANALYTIC != 0);
+    // One block tests up to four triangles at the cost of one: splitting them would add a box
+    // test and a second block, unless lanes are free.
+    if n <= 4 && !free && !analytic {
         return None;
     }
     if sp.depth >= MEDIAN_DEPTH {
@@ -425,8 +457,13 @@ fn split(refs: &mut [Ref], sp: &Span) -> Option<(Span, Span)> {
         }
     }
     let (cost, axis, plane) = best;
-    let split_cost = SPLIT_COST + cost / sp.area().max(f32::MIN_POSITIVE);
-    if n <= MAX_LEAF && blocks(n as u32) <= split_cost {
+    // A split into free lanes costs no traversal step, but more, emptier blocks: take it only
+    // when it clearly pays.
+    let split_cost = match free {
+        false => SPLIT_COST + cost / sp.area().max(f32::MIN_POSITIVE),
+        true => cost / sp.area().max(f32::MIN_POSITIVE) / FREE_SPLIT_GAIN,
+    };
+    if n <= MAX_LEAF && !analytic && blocks(n as u32) <= split_cost {
         return None;
     }
     if !cost.is_finite() {
