@@ -17,6 +17,7 @@
 //! are built in parallel, each into its own node list, and appended in lane order. The tree is
 //! therefore the same whatever the thread count.
 use super::block::ANALYTIC;
+use super::wide::Node8;
 use crate::math::Vec3;
 use crate::shape::Shape;
 use glam::Vec4;
@@ -59,31 +60,39 @@ impl Ref {
 
 /// Refs for every primitive with finite, non-empty bounds. Triangles get their global id (mesh
 /// triangles counted in shape order, `first[s]` for the first of shape `s`), analytic shapes
-/// [`ANALYTIC`] | their shape index.
+/// [`ANALYTIC`] | their shape index. Filled in place in parallel (no second copy of the array).
 pub fn refs(shapes: &[Shape], first: &[u32]) -> Vec<Ref> {
-    let mut out = Vec::with_capacity(shapes.iter().map(Shape::prim_count).sum());
+    // A ref with empty bounds marks a primitive left out.
+    let none = Ref {
+        lo: Vec4::INFINITY,
+        hi: Vec4::NEG_INFINITY,
+    };
+    let mut out = vec![none; shapes.iter().map(Shape::prim_count).sum()];
+    let mut rest = &mut out[..];
     for (s, shape) in shapes.iter().enumerate() {
-        let n = shape.prim_count() as u32;
-        let make = |p: u32| {
-            let b = shape.prim_bounds(p);
+        let (mine, tail) = rest.split_at_mut(shape.prim_count());
+        rest = tail;
+        let fill = |(p, r): (usize, &mut Ref)| {
+            let b = shape.prim_bounds(p as u32);
             if b.is_empty() || !b.min.is_finite() || !b.max.is_finite() {
-                return None;
+                return;
             }
             let id = match shape {
-                Shape::Mesh(_) => first[s] + p,
+                Shape::Mesh(_) => first[s] + p as u32,
                 _ => ANALYTIC | s as u32,
             };
-            Some(Ref {
+            *r = Ref {
                 lo: b.min.extend(f32::from_bits(id)),
                 hi: b.max.extend(0.0),
-            })
+            };
         };
-        if n as usize >= PARALLEL_MIN {
-            out.par_extend((0..n).into_par_iter().filter_map(make));
+        if mine.len() >= PARALLEL_MIN {
+            mine.par_iter_mut().enumerate().for_each(fill);
         } else {
-            out.extend((0..n).filter_map(make));
+            mine.iter_mut().enumerate().for_each(fill);
         }
     }
+    out.retain(|r| r.lo.x <= r.hi.x);
     out
 }
 
@@ -91,7 +100,7 @@ pub fn refs(shapes: &[Shape], first: &[u32]) -> Vec<Ref> {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Slot {
     Empty,
-    /// Index of an interior node in the build's node list.
+    /// Index of an interior node.
     Inner(u32),
     /// Refs `start .. start + len`.
     Leaf {
@@ -100,18 +109,37 @@ pub enum Slot {
     },
 }
 
-/// An 8-wide node while building: child bounds and slots.
-#[derive(Clone, Copy, Debug)]
-pub struct BuildNode {
-    pub lo: [Vec3; 8],
-    pub hi: [Vec3; 8],
-    pub slot: [Slot; 8],
+/// `Nodes::len` of an interior lane.
+pub const INNER: u8 = u8::MAX;
+
+/// The nodes of a tree being built, already in their final [`Node8`] form except that a leaf
+/// lane's `child` holds its first ref and `len` its ref count; an interior lane has `len` =
+/// [`INNER`] and an unused one 0. The layout turns leaf lanes into block references in place.
+#[derive(Default)]
+pub struct Nodes {
+    pub node: Vec<Node8>,
+    pub len: Vec<[u8; 8]>,
 }
 
-/// The built tree: nodes (interior node 0 first when the root is interior) and the root slot.
-/// Leaves hold ranges of the reordered refs, in increasing order along a depth-first walk.
+impl Nodes {
+    /// The slot of lane `lane` of node `i`.
+    pub fn slot(&self, i: usize, lane: usize) -> Slot {
+        match self.len[i][lane] {
+            0 => Slot::Empty,
+            INNER => Slot::Inner(self.node[i].child[lane]),
+            n => Slot::Leaf {
+                start: self.node[i].child[lane],
+                len: n as u32,
+            },
+        }
+    }
+}
+
+/// The built tree: its nodes (the root, when interior, is node 0), the root slot and the
+/// bounds of everything. Leaves hold ranges of the reordered refs, in increasing order along a
+/// depth-first walk.
 pub struct Tree {
-    pub nodes: Vec<BuildNode>,
+    pub nodes: Nodes,
     pub root: Slot,
     pub lo: Vec3,
     pub hi: Vec3,
@@ -119,7 +147,7 @@ pub struct Tree {
 
 /// Builds the tree over `refs`, reordering them so that every leaf is a contiguous range.
 pub fn build(refs: &mut [Ref]) -> Tree {
-    let mut nodes = Vec::new();
+    let mut nodes = Nodes::default();
     if refs.is_empty() {
         return Tree {
             nodes,
@@ -201,7 +229,7 @@ fn span_of(refs: &[Ref], start: usize, depth: usize) -> Span {
 
 /// The subtree over `refs` (the refs of `span`, which starts at global index `span.start`):
 /// a leaf, or an interior node appended to `out` (whose indices are local to `out`).
-fn subtree(refs: &mut [Ref], base: usize, span: Span, out: &mut Vec<BuildNode>) -> Slot {
+fn subtree(refs: &mut [Ref], base: usize, span: Span, out: &mut Nodes) -> Slot {
     match split(refs, &span, false) {
         None => leaf(&span),
         Some((l, r)) => Slot::Inner(wide_node(refs, base, l, r, out)),
@@ -220,7 +248,7 @@ enum Kid {
 }
 
 /// Builds the 8-wide node whose range was split into `l` and `r`; returns its index in `out`.
-fn wide_node(refs: &mut [Ref], base: usize, l: Span, r: Span, out: &mut Vec<BuildNode>) -> u32 {
+fn wide_node(refs: &mut [Ref], base: usize, l: Span, r: Span, out: &mut Nodes) -> u32 {
     // Kids in range order, with what may still happen to them.
     let mut kids: Vec<(Span, Kid)> = Vec::with_capacity(8);
     kids.push((l, Kid::Open));
@@ -256,12 +284,9 @@ fn wide_node(refs: &mut [Ref], base: usize, l: Span, r: Span, out: &mut Vec<Buil
             }
         }
     }
-    let index = out.len();
-    out.push(BuildNode {
-        lo: [Vec3::ZERO; 8],
-        hi: [Vec3::ZERO; 8],
-        slot: [Slot::Empty; 8],
-    });
+    let index = out.node.len();
+    out.node.push(Node8::empty());
+    out.len.push([0; 8]);
     let total: usize = kids.iter().map(|k| k.0.len).sum();
     // Cut `refs` into the kids' disjoint ranges.
     let mut pieces = Vec::with_capacity(kids.len());
@@ -274,11 +299,11 @@ fn wide_node(refs: &mut [Ref], base: usize, l: Span, r: Span, out: &mut Vec<Buil
     let mut slots = [Slot::Empty; 8];
     let open = |k: &Kid| *k == Kid::Open;
     if total >= PARALLEL_MIN && kids.iter().filter(|k| open(&k.1)).count() > 1 {
-        let built: Vec<(Slot, Vec<BuildNode>)> = pieces
+        let built: Vec<(Slot, Nodes)> = pieces
             .into_par_iter()
             .zip(kids.par_iter())
             .map(|(piece, (k, state))| {
-                let mut sub = Vec::new();
+                let mut sub = Nodes::default();
                 let slot = if open(state) {
                     subtree(piece, k.start, *k, &mut sub)
                 } else {
@@ -287,6 +312,10 @@ fn wide_node(refs: &mut [Ref], base: usize, l: Span, r: Span, out: &mut Vec<Buil
                 (slot, sub)
             })
             .collect();
+        // Grow the list once, to its exact size, rather than by doubling.
+        let more: usize = built.iter().map(|b| b.1.node.len()).sum();
+        out.node.reserve_exact(more);
+        out.len.reserve_exact(more);
         for (lane, (slot, sub)) in built.into_iter().enumerate() {
             slots[lane] = append(out, slot, sub);
         }
@@ -299,11 +328,17 @@ fn wide_node(refs: &mut [Ref], base: usize, l: Span, r: Span, out: &mut Vec<Buil
             };
         }
     }
-    let node = &mut out[index];
     for (lane, (k, _)) in kids.iter().enumerate() {
-        node.lo[lane] = k.lo.truncate();
-        node.hi[lane] = k.hi.truncate();
-        node.slot[lane] = slots[lane];
+        let (child, len) = match slots[lane] {
+            Slot::Empty => unreachable!("every kid fills its lane"),
+            Slot::Inner(i) => (i, INNER),
+            Slot::Leaf { start, len } => {
+                assert!(len as usize <= MAX_LEAF);
+                (start, len as u8)
+            }
+        };
+        out.node[index].set(lane, k.lo.truncate(), k.hi.truncate(), child);
+        out.len[index][lane] = len;
     }
     index as u32
 }
@@ -316,16 +351,17 @@ fn leaf(k: &Span) -> Slot {
 }
 
 /// Appends a subtree built into its own list (root at index 0) to `out`; returns its slot.
-fn append(out: &mut Vec<BuildNode>, slot: Slot, sub: Vec<BuildNode>) -> Slot {
-    let shift = out.len() as u32;
-    out.extend(sub.into_iter().map(|mut n| {
-        for s in &mut n.slot {
-            if let Slot::Inner(i) = s {
-                *i += shift;
+fn append(out: &mut Nodes, slot: Slot, sub: Nodes) -> Slot {
+    let shift = out.node.len() as u32;
+    for (mut n, len) in sub.node.into_iter().zip(sub.len) {
+        for (c, &l) in n.child.iter_mut().zip(&len) {
+            if l == INNER {
+                *c += shift;
             }
         }
-        n
-    }));
+        out.node.push(n);
+        out.len.push(len);
+    }
     match slot {
         Slot::Inner(i) => Slot::Inner(i + shift),
         s => s,

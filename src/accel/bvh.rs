@@ -49,7 +49,9 @@ impl Bvh {
         // Only the ids are needed from here on: free the refs before the blocks are allocated.
         let ids = build::ids(&refs);
         drop(refs);
-        let l = layout(&tree, &ids, shapes, &first);
+        let (lo, hi) = (tree.lo, tree.hi);
+        let l = layout(tree, &ids, shapes, &first);
+        drop(ids);
         // The walk bound of the traversal stack (see `traverse::STACK`).
         assert!(
             7 * l.depth < STACK,
@@ -58,10 +60,7 @@ impl Bvh {
         );
         let bounds = match prims {
             0 => Bounds3::EMPTY,
-            _ => Bounds3 {
-                min: tree.lo,
-                max: tree.hi,
-            },
+            _ => Bounds3 { min: lo, max: hi },
         };
         Bvh {
             nodes: l.nodes,

@@ -1,9 +1,11 @@
 //! Layout: the built tree turned into the arrays traversal reads.
 //!
-//! Interior nodes keep their build order (a node before its subtrees). Leaves are numbered in
+//! Interior nodes keep their build order (a node before its subtrees) and their memory: only
+//! their leaf lanes are rewritten, from ref ranges to block references. Leaves are numbered in
 //! depth-first lane order, which is the order of their ref ranges, and each becomes a run of
 //! [`Block`]s holding copies of its triangles' corners, so a leaf test reads contiguous memory
-//! instead of chasing mesh indices. Blocks are filled in parallel.
+//! instead of chasing mesh indices. The block array is allocated once at its final size and
+//! filled in parallel, leaf by leaf.
 use super::block::{Block, ANALYTIC, EMPTY};
 use super::build::{Slot, Tree};
 use super::wide::{leaf_ref, Node8, EMPTY_CHILD, MAX_LEAF_BLOCKS};
@@ -23,42 +25,43 @@ pub struct Layout {
 
 /// Lays out `tree`; `ids` are the lane ids of the reordered refs, `first[s]` the global id of
 /// shape `s`'s first triangle.
-pub fn layout(tree: &Tree, ids: &[u32], shapes: &[Shape], first: &[u32]) -> Layout {
+pub fn layout(tree: Tree, ids: &[u32], shapes: &[Shape], first: &[u32]) -> Layout {
     let mut walk = Walk {
         tree,
-        nodes: vec![Node8::empty(); tree.nodes.len()],
         leaves: Vec::new(),
         blocks: 0,
         depth: 0,
     };
-    let root = walk.slot_ref(tree.root, 1);
-    let blocks = walk
-        .leaves
-        .par_iter()
-        .flat_map_iter(|&(start, len)| {
-            let lanes = &ids[start as usize..(start + len) as usize];
-            lanes.chunks(4).map(|c| {
-                let slot = |l: usize| {
-                    let id = c.get(l).copied().unwrap_or(EMPTY);
-                    (id, corners(shapes, first, id))
-                };
-                Block::new([slot(0), slot(1), slot(2), slot(3)])
-            })
-        })
-        .collect::<Vec<Block>>();
-    debug_assert_eq!(blocks.len(), walk.blocks);
+    let root = walk.slot_ref(walk.tree.root, 1);
+    let mut blocks = vec![Block::new([(EMPTY, [Vec3::ZERO; 3]); 4]); walk.blocks];
+    // Cut the array into each leaf's run, then fill the runs in parallel.
+    let mut runs = Vec::with_capacity(walk.leaves.len());
+    let mut rest = &mut blocks[..];
+    for &(start, len) in &walk.leaves {
+        let (run, tail) = rest.split_at_mut((len as usize).div_ceil(4));
+        runs.push((run, &ids[start as usize..(start + len) as usize]));
+        rest = tail;
+    }
+    runs.into_par_iter().for_each(|(run, lanes)| {
+        for (b, c) in run.iter_mut().zip(lanes.chunks(4)) {
+            let slot = |l: usize| {
+                let id = c.get(l).copied().unwrap_or(EMPTY);
+                (id, corners(shapes, first, id))
+            };
+            *b = Block::new([slot(0), slot(1), slot(2), slot(3)]);
+        }
+    });
     Layout {
-        nodes: walk.nodes,
+        nodes: walk.tree.nodes.node,
         blocks,
         root,
         depth: walk.depth,
     }
 }
 
-/// The depth-first walk that converts nodes and numbers leaves.
-struct Walk<'a> {
-    tree: &'a Tree,
-    nodes: Vec<Node8>,
+/// The depth-first walk that numbers leaves and rewrites their lanes.
+struct Walk {
+    tree: Tree,
     /// Ref ranges (start, len) of the leaves in block order.
     leaves: Vec<(u32, u32)>,
     /// Blocks used so far.
@@ -66,8 +69,8 @@ struct Walk<'a> {
     depth: usize,
 }
 
-impl Walk<'_> {
-    /// The child reference for `slot`, converting its subtree; `level` is the slot's level.
+impl Walk {
+    /// The child reference for `slot`, rewriting its subtree; `level` is the slot's level.
     fn slot_ref(&mut self, slot: Slot, level: usize) -> u32 {
         if slot != Slot::Empty {
             self.depth = self.depth.max(level);
@@ -83,15 +86,13 @@ impl Walk<'_> {
                 r
             }
             Slot::Inner(i) => {
-                let b = self.tree.nodes[i as usize];
-                let mut node = Node8::empty();
                 for lane in 0..8 {
-                    if b.slot[lane] != Slot::Empty {
-                        let child = self.slot_ref(b.slot[lane], level + 1);
-                        node.set(lane, b.lo[lane], b.hi[lane], child);
+                    let s = self.tree.nodes.slot(i as usize, lane);
+                    if s != Slot::Empty {
+                        let child = self.slot_ref(s, level + 1);
+                        self.tree.nodes.node[i as usize].child[lane] = child;
                     }
                 }
-                self.nodes[i as usize] = node;
                 i
             }
         }

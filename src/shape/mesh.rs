@@ -21,10 +21,14 @@
 //! Intersection", JCGT 2(1), 2013, with an f64 fallback on edges. Zero-area triangles are
 //! dropped at construction ([`TriangleMesh::degenerate_dropped`] counts them).
 //!
-//! Direct sampling picks a triangle in proportion to its area (cumulative table) and a uniform
-//! point on it (Heitz 2019), so the density is 1/area over the whole mesh.
+//! Direct sampling picks a triangle in proportion to its area (an alias table, O(1) per
+//! sample; see [`super::alias`]) and a uniform point on it (Heitz 2019), so the density is
+//! 1/area over the whole mesh. The table (8 bytes per triangle) is built on the first sample,
+//! so meshes that never emit do not pay for it.
+use super::alias::AliasTable;
 use super::{area_to_solid_angle, Hit, ShapeSample, SurfaceInteraction};
 use crate::math::{warp, Bounds3, Frame, Ray, Transform, Vec2, Vec3};
+use std::sync::OnceLock;
 
 /// Invalid mesh data.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -61,8 +65,8 @@ pub struct TriangleMesh {
     uvs: Option<Vec<Vec2>>,
     indices: Vec<[u32; 3]>,
     flip_normals: bool,
-    /// Cumulative triangle areas (last entry = total area).
-    cdf: Vec<f32>,
+    /// Triangles by area, for direct sampling; built on first use.
+    alias: OnceLock<AliasTable>,
     area: f32,
     bounds: Bounds3,
     dropped: usize,
@@ -130,37 +134,37 @@ impl TriangleMesh {
         };
         let swap = to_world.swaps_handedness();
         let given = indices.len();
-        let mut kept = Vec::with_capacity(indices.len());
-        let mut cdf = Vec::with_capacity(indices.len());
+        let mut indices = indices;
         let mut total = 0.0f64;
         let mut bounds = Bounds3::EMPTY;
-        for mut tri in indices {
+        // Filtered in place: a second index array would add 12 bytes per triangle to the peak.
+        indices.retain_mut(|tri| {
             if swap {
                 tri.swap(1, 2);
             }
             let [a, b, c] = tri.map(|k| positions[k as usize]);
             let area = 0.5 * (b - a).cross(c - a).length();
             if !super::positive_finite(area) {
-                continue;
+                return false;
             }
             bounds.grow(a);
             bounds.grow(b);
             bounds.grow(c);
             total += area as f64;
-            cdf.push(total as f32);
-            kept.push(tri);
-        }
-        let dropped = given - kept.len();
-        if kept.is_empty() {
+            true
+        });
+        indices.shrink_to_fit();
+        let dropped = given - indices.len();
+        if indices.is_empty() {
             return Err(MeshError::Empty { dropped });
         }
         Ok(TriangleMesh {
             positions,
             normals,
             uvs,
-            indices: kept,
+            indices,
             flip_normals,
-            cdf,
+            alias: OnceLock::new(),
             area: total as f32,
             bounds,
             dropped,
@@ -288,21 +292,27 @@ impl TriangleMesh {
         self.area
     }
 
+    /// Area of triangle `prim`, as the sampling table weighs it.
+    fn triangle_area(&self, prim: usize) -> f64 {
+        let [a, b, c] = self.vertices(prim as u32);
+        0.5 * (b - a).cross(c - a).length() as f64
+    }
+
+    /// The alias table over the triangle areas (built on the first call).
+    fn alias(&self) -> &AliasTable {
+        self.alias.get_or_init(|| {
+            let areas: Vec<f64> = (0..self.indices.len())
+                .map(|i| self.triangle_area(i))
+                .collect();
+            // Construction keeps only triangles of positive finite area, and at least one.
+            AliasTable::new(&areas).expect("a mesh has triangles of positive area")
+        })
+    }
+
     /// Samples a point uniformly by area; density converted to solid angle at `ref_p`.
     pub fn sample_direct(&self, ref_p: Vec3, u: Vec2) -> Option<ShapeSample> {
-        let target = u.x * self.area;
-        let i = self
-            .cdf
-            .partition_point(|&c| c <= target)
-            .min(self.cdf.len() - 1);
-        let lo = if i == 0 { 0.0 } else { self.cdf[i - 1] };
-        let width = self.cdf[i] - lo;
-        // Reuse the remainder of u.x inside the chosen triangle's interval.
-        let ux = if width > 0.0 {
-            ((target - lo) / width).clamp(0.0, crate::math::ONE_MINUS_EPSILON)
-        } else {
-            0.5
-        };
+        // The fraction of u.x left after choosing the triangle positions the point in it.
+        let (i, ux) = self.alias().sample(u.x);
         let b = warp::square_to_uniform_triangle(Vec2::new(ux, u.y));
         let (b0, b1) = (b.x, b.y);
         let b2 = 1.0 - b0 - b1;

@@ -53,6 +53,7 @@ pub struct ShapeSample {
     pub pdf: f32,
 }
 
+pub mod alias;
 pub mod disk;
 pub mod load;
 pub mod mesh;
