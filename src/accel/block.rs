@@ -65,6 +65,13 @@ impl Block {
         self.id
     }
 
+    /// The corners stored in lane `lane` (a triangle lane's are its mesh's vertices, bit for
+    /// bit).
+    #[inline]
+    pub fn corners(&self, lane: usize) -> [Vec3; 3] {
+        [0, 1, 2].map(|k| Vec3::new(self.p[k][0][lane], self.p[k][1][lane], self.p[k][2][lane]))
+    }
+
     /// Lanes holding triangles, as bits: those whose id has the top bit clear.
     #[inline(always)]
     fn triangles(&self) -> u32 {

@@ -8,8 +8,8 @@
 //! tests run every variant and check that all give identical hits. The variants compute the
 //! same operations in the same order, so their results are bit-identical.
 use super::simd::{Pair8, Vec8};
-use super::traverse::{self, View};
-use crate::math::{Ray, Vec2};
+use super::traverse::{self, Found, View};
+use crate::math::Ray;
 use crate::shape::Shape;
 
 /// An instruction-set variant of the traversal.
@@ -109,17 +109,12 @@ macro_rules! variants {
     };
 }
 
-variants!(closest, traverse::closest, (v: View, shapes: &[Shape], ray: &Ray) -> Option<(u32, f32, Vec2)>);
+variants!(closest, traverse::closest, (v: View, shapes: &[Shape], ray: &Ray) -> Option<Found>);
 variants!(any, traverse::any, (v: View, shapes: &[Shape], ray: &Ray) -> bool);
 
 /// Closest hits of a batch of rays (one dispatch for the batch).
 #[inline(always)]
-fn closest_batch<V: Vec8>(
-    v: View,
-    shapes: &[Shape],
-    rays: &[Ray],
-    out: &mut [Option<(u32, f32, Vec2)>],
-) {
+fn closest_batch<V: Vec8>(v: View, shapes: &[Shape], rays: &[Ray], out: &mut [Option<Found>]) {
     for (r, o) in rays.iter().zip(out) {
         *o = traverse::closest::<V>(v, shapes, r);
     }
@@ -133,5 +128,5 @@ fn any_batch<V: Vec8>(v: View, shapes: &[Shape], rays: &[Ray], out: &mut [bool])
     }
 }
 
-variants!(closest_n, closest_batch, (v: View, shapes: &[Shape], rays: &[Ray], out: &mut [Option<(u32, f32, Vec2)>]) -> ());
+variants!(closest_n, closest_batch, (v: View, shapes: &[Shape], rays: &[Ray], out: &mut [Option<Found>]) -> ());
 variants!(any_n, any_batch, (v: View, shapes: &[Shape], rays: &[Ray], out: &mut [bool]) -> ());

@@ -59,9 +59,22 @@ impl<V: Vec8> BoxRay<V> {
     }
 }
 
-/// The closest hit: (lane id, t, hit coordinates).
+/// The closest hit found by a traversal.
+#[derive(Clone, Copy, Debug)]
+pub struct Found {
+    /// Lane id (see [`super::block`]).
+    pub id: u32,
+    pub t: f32,
+    /// Hit coordinates (barycentrics b1, b2 for triangles).
+    pub uv: Vec2,
+    /// Where the primitive's slot is: block index and lane.
+    pub block: u32,
+    pub lane: u32,
+}
+
+/// The closest hit.
 #[inline(always)]
-pub fn closest<V: Vec8>(v: View, shapes: &[Shape], ray: &Ray) -> Option<(u32, f32, Vec2)> {
+pub fn closest<V: Vec8>(v: View, shapes: &[Shape], ray: &Ray) -> Option<Found> {
     if v.root == EMPTY_CHILD {
         return None;
     }
@@ -76,9 +89,15 @@ pub fn closest<V: Vec8>(v: View, shapes: &[Shape], ray: &Ray) -> Option<(u32, f3
     loop {
         if cur & LEAF != 0 {
             let (first, n) = leaf_range(cur);
-            for b in &v.blocks[first..first + n] {
+            for (k, b) in v.blocks[first..first + n].iter().enumerate() {
                 if let Some((lane, t, uv)) = b.closest(&lanes, &mut r, shapes) {
-                    best = Some((b.ids()[lane], t, uv));
+                    best = Some(Found {
+                        id: b.ids()[lane],
+                        t,
+                        uv,
+                        block: (first + k) as u32,
+                        lane: lane as u32,
+                    });
                 }
             }
         } else {

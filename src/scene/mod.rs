@@ -69,9 +69,7 @@ impl Scene {
     /// Closest hit along the ray.
     #[inline]
     pub fn intersect(&self, ray: &Ray) -> Option<(Hit, SurfaceInteraction)> {
-        let hit = self.bvh.intersect(&self.shapes, ray)?;
-        let si = self.shapes[hit.shape as usize].interaction(&hit, ray);
-        Some((hit, si))
+        self.bvh.intersect_interaction(&self.shapes, ray)
     }
 
     /// Whether anything blocks the ray before `ray.t_max`.

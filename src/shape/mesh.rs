@@ -235,10 +235,11 @@ impl TriangleMesh {
         self.bounds
     }
 
-    fn uv_corners(&self, tri: [u32; 3]) -> [Vec2; 3] {
-        match &self.uvs {
-            Some(uv) => tri.map(|k| uv[k as usize]),
-            None => [Vec2::ZERO, Vec2::new(1.0, 0.0), Vec2::ONE],
+    /// UVs of a triangle's corners (`tri` is its index triple, needed only with vertex UVs).
+    fn uv_corners(&self, tri: Option<[u32; 3]>) -> [Vec2; 3] {
+        match (&self.uvs, tri) {
+            (Some(uv), Some(tri)) => tri.map(|k| uv[k as usize]),
+            _ => [Vec2::ZERO, Vec2::new(1.0, 0.0), Vec2::ONE],
         }
     }
 
@@ -253,8 +254,14 @@ impl TriangleMesh {
 
     /// Surface geometry at a hit; the point is recomputed from the barycentrics.
     pub fn interaction(&self, hit: &Hit, _ray: &Ray) -> SurfaceInteraction {
-        let tri = self.indices[hit.prim as usize];
-        let p = tri.map(|k| self.positions[k as usize]);
+        self.interaction_at(hit, self.vertices(hit.prim))
+    }
+
+    /// [`Self::interaction`] with the hit triangle's corners `p` at hand (the BVH keeps
+    /// copies); the index triple is read only for vertex normals or UVs.
+    pub fn interaction_at(&self, hit: &Hit, p: [Vec3; 3]) -> SurfaceInteraction {
+        let tri =
+            (self.normals.is_some() || self.uvs.is_some()).then(|| self.indices[hit.prim as usize]);
         let (b1, b2) = (hit.uv.x, hit.uv.y);
         let b0 = 1.0 - b1 - b2;
         let pos = b0 * p[0] + b1 * p[1] + b2 * p[2];
@@ -262,8 +269,8 @@ impl TriangleMesh {
         let uvc = self.uv_corners(tri);
         let uv = b0 * uvc[0] + b1 * uvc[1] + b2 * uvc[2];
         let (dpdu, dpdv) = tangents(&p, &uvc, ng);
-        let ns = match &self.normals {
-            Some(n) => {
+        let ns = match (&self.normals, tri) {
+            (Some(n), Some(tri)) => {
                 let s = b0 * n[tri[0] as usize] + b1 * n[tri[1] as usize] + b2 * n[tri[2] as usize];
                 let s = s.normalize_or_zero();
                 match (s == Vec3::ZERO, self.flip_normals) {
@@ -272,7 +279,7 @@ impl TriangleMesh {
                     (false, false) => s,
                 }
             }
-            None => ng,
+            _ => ng,
         };
         SurfaceInteraction {
             p: pos,
@@ -320,7 +327,7 @@ impl TriangleMesh {
         let p = tri.map(|k| self.positions[k as usize]);
         let pos = b0 * p[0] + b1 * p[1] + b2 * p[2];
         let n = self.geometric_normal(&p);
-        let uvc = self.uv_corners(tri);
+        let uvc = self.uv_corners(Some(tri));
         let uv = b0 * uvc[0] + b1 * uvc[1] + b2 * uvc[2];
         let pdf = area_to_solid_angle(1.0 / self.area, ref_p, pos, n);
         if !super::positive_finite(pdf) {
