@@ -9,8 +9,8 @@ use roxmltree::{Document, ParsingOptions};
 
 use super::element::{Attr, Elem, Source};
 use super::literal;
-use super::properties::{Properties, Value};
 use super::{describe, Child, Location, Node, SceneError, Tag, Warning};
+use crate::plugin::{Properties, Value};
 
 /// Deepest nesting of elements and includes accepted; deeper input is an error, not a crash.
 const MAX_DEPTH: usize = 100;

@@ -78,7 +78,7 @@ pub struct Properties {
 }
 
 impl Properties {
-    pub(super) fn new(owner: String) -> Properties {
+    pub(crate) fn new(owner: String) -> Properties {
         Properties {
             owner,
             entries: Vec::new(),
@@ -86,7 +86,7 @@ impl Properties {
     }
 
     /// Adds a parameter; a second parameter of the same name is an error.
-    pub(super) fn insert(
+    pub(crate) fn insert(
         &mut self,
         name: String,
         original: String,
