@@ -10,7 +10,11 @@
 //!
 //! ## Parameters
 //!
-//! PARAMS
+//! | parameter | type | default | unit | meaning |
+//! |---|---|---|---|---|
+//! | `reflectance` | spectrum or texture | 0.5 | — | albedo of the base |
+//! | `sigma_a` (0.6: `sigmaA`) | spectrum or texture | 0.0 | 1/(unit of `thickness`) | absorption coefficient |
+//! | `thickness` | float | 1.0 | — | thickness of the layer; non-negative |
 //!
 //! The thesis's Mitsuba 0.6 plugin is `Absorption` (an alias here). It applied the same factor
 //! as a straight pass-through interface inside its `multilayered` stack; here it is the opaque

@@ -27,7 +27,11 @@
 //!
 //! ## Parameters
 //!
-//! PARAMS
+//! | parameter | type | default | unit | meaning |
+//! |---|---|---|---|---|
+//! | `(nested texture)` | texture | required | — | the height h (a float texture: `scales`, `bitmap`, …) |
+//! | `scale` | float | 1.0 | world units | displacement per unit of height |
+//! | `(nested bsdf)` | bsdf | `diffuse` | — | the material being bumped |
 //!
 //! Limits: piecewise-constant textures (`checkerboard`, `per_scale`) have no slope and do not
 //! bump; the displaced surface is not traced (silhouettes stay smooth), as in any bump map.

@@ -5,7 +5,13 @@
 //!
 //! ## Parameters
 //!
-//! PARAMS
+//! | parameter | type | default | unit | meaning |
+//! |---|---|---|---|---|
+//! | `material` | string | `none` | — | a named metal (`Au`, `Ag`, `Cu`, `Al`, … 71 of Mitsuba's) or `none` (a perfect mirror) |
+//! | `eta` | spectrum | 0.0 | — | real part of the metal's index (with `k`, instead of `material`) |
+//! | `k` | spectrum | 1.0 | — | imaginary part (extinction) of the metal's index |
+//! | `ext_ior`, `ext_eta` (0.6: `extEta`) | float or IOR name | `air` | — | index of the medium outside the metal |
+//! | `specular_reflectance` | spectrum or texture | 1.0 | — | factor on the reflected light (not physical) |
 //!
 //! One-sided, as in Mitsuba 3. Known limits: unpolarised light only.
 

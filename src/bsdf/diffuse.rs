@@ -3,7 +3,9 @@
 //!
 //! ## Parameters
 //!
-//! PARAMS
+//! | parameter | type | default | unit | meaning |
+//! |---|---|---|---|---|
+//! | `reflectance` | spectrum or texture | 0.5 | — | albedo |
 //!
 //! One-sided as in Mitsuba 3: black when either direction is below the surface (wrap in
 //! `twosided` for both sides). Reflectances are clamped to [0, 1]. Known limits: none.

@@ -6,7 +6,11 @@
 //!
 //! ## Parameters
 //!
-//! PARAMS
+//! | parameter | type | default | unit | meaning |
+//! |---|---|---|---|---|
+//! | `(nested texture)` | texture | required | — | a `bitmap` (tangent-space normals) or a `scales` texture |
+//! | `strength` | float | 1.0 | — | multiplies the slope of the normals |
+//! | `(nested bsdf)` | bsdf | `diffuse` | — | the material |
 //!
 //! Known limits: the displaced surface is not traced (silhouettes stay smooth).
 

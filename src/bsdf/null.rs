@@ -4,7 +4,8 @@
 //!
 //! ## Parameters
 //!
-//! PARAMS
+//! | parameter | type | default | unit | meaning |
+//! |---|---|---|---|---|
 //!
 //! Known limits: none.
 

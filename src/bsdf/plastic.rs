@@ -21,7 +21,13 @@
 //!
 //! ## Parameters
 //!
-//! PARAMS
+//! | parameter | type | default | unit | meaning |
+//! |---|---|---|---|---|
+//! | `diffuse_reflectance` (0.6: `diffuseReflectance`) | spectrum or texture | 0.5 | — | albedo of the substrate |
+//! | `specular_reflectance` | spectrum or texture | 1.0 | — | factor on the reflected light (not physical) |
+//! | `int_ior` (0.6: `intIOR`) | float or IOR name | 1.49 | — | index of the coating (polypropylene) |
+//! | `ext_ior` (0.6: `extIOR`) | float or IOR name | `air` | — | index of the exterior |
+//! | `nonlinear` | boolean | false | — | account for the substrate's colour in the internal reflections |
 //!
 //! `roughplastic` adds `distribution` and `alpha` (isotropic, as in Mitsuba).
 //!

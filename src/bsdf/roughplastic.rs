@@ -4,7 +4,16 @@
 //!
 //! ## Parameters
 //!
-//! PARAMS
+//! | parameter | type | default | unit | meaning |
+//! |---|---|---|---|---|
+//! | `distribution` | string | `beckmann` | — | microfacet normal distribution; one of 'beckmann', 'ggx' |
+//! | `alpha` | float or texture | 0.1 | RMS slope | roughness α; between 0 and 10 |
+//! | `sample_visible` | boolean | true | — | accepted; visible normals are always sampled |
+//! | `diffuse_reflectance` (0.6: `diffuseReflectance`) | spectrum or texture | 0.5 | — | albedo of the substrate |
+//! | `specular_reflectance` | spectrum or texture | 1.0 | — | factor on the reflected light (not physical) |
+//! | `int_ior` (0.6: `intIOR`) | float or IOR name | 1.49 | — | index of the coating (polypropylene) |
+//! | `ext_ior` (0.6: `extIOR`) | float or IOR name | `air` | — | index of the exterior |
+//! | `nonlinear` | boolean | false | — | account for the substrate's colour in the internal reflections |
 //!
 //! Known limits: as `plastic`; the coat's transmittance into and out of the substrate is that
 //! of a smooth interface (see [`super::plastic`]).

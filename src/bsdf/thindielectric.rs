@@ -6,7 +6,12 @@
 //!
 //! ## Parameters
 //!
-//! PARAMS
+//! | parameter | type | default | unit | meaning |
+//! |---|---|---|---|---|
+//! | `int_ior` (0.6: `intIOR`) | float or IOR name | `bk7` | — | index of the interior |
+//! | `ext_ior` (0.6: `extIOR`) | float or IOR name | `air` | — | index of the exterior |
+//! | `specular_reflectance` | spectrum or texture | 1.0 | — | factor on the reflected light (not physical) |
+//! | `specular_transmittance` | spectrum or texture | 1.0 | — | factor on the transmitted light (not physical) |
 //!
 //! Two-sided; no η² scaling (the ray leaves into the medium it came from). Known limits: no
 //! absorption inside the sheet, no interference (the film plugins have that).

@@ -13,7 +13,15 @@
 //!
 //! ## Parameters
 //!
-//! PARAMS
+//! | parameter | type | default | unit | meaning |
+//! |---|---|---|---|---|
+//! | `film_ior`, `medium_ior` | float or IOR name | 1.4 | — | index of the film; `keratin` = 1.532 + 5890/λ² (λ in nm) |
+//! | `film_thickness`, `thickness` | float or texture | 500.0 | nm | thickness of the film; between 0 and 100000 |
+//! | `mode` | string | `spectral` | — | `thesis`: the thesis's 650/510/475 nm point samples and phase term; one of 'spectral', 'thesis' |
+//! | `int_ior` (0.6: `intIOR`) | float or IOR name | `bk7` | — | index of the interior |
+//! | `ext_ior` (0.6: `extIOR`) | float or IOR name | `air` | — | index of the exterior |
+//! | `specular_reflectance` | spectrum or texture | 1.0 | — | factor on the reflected light (not physical) |
+//! | `specular_transmittance` | spectrum or texture | 1.0 | — | factor on the transmitted light (not physical) |
 //!
 //! The thesis's Mitsuba 0.6 plugin `dielectricThinFilm` loads with its own names and defaults
 //! (see `ophis plugins dielectricThinFilm`): `intIOR` = diamond, `mediumIOR` = BK7,

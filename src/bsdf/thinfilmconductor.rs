@@ -6,7 +6,16 @@
 //!
 //! ## Parameters
 //!
-//! PARAMS
+//! | parameter | type | default | unit | meaning |
+//! |---|---|---|---|---|
+//! | `film_ior`, `medium_ior` | float or IOR name | 1.4 | — | index of the film; `keratin` = 1.532 + 5890/λ² (λ in nm) |
+//! | `film_thickness`, `thickness` | float or texture | 500.0 | nm | thickness of the film; between 0 and 100000 |
+//! | `mode` | string | `spectral` | — | `thesis`: the thesis's 650/510/475 nm point samples and phase term; one of 'spectral', 'thesis' |
+//! | `material` | string | `Cu` | — | a named metal (`Au`, `Ag`, `Cu`, `Al`, … 71 of Mitsuba's); `none` is refused |
+//! | `eta` | spectrum | 0.0 | — | real part of the metal's index (with `k`, instead of `material`) |
+//! | `k` | spectrum | 1.0 | — | imaginary part (extinction) of the metal's index |
+//! | `ext_ior` (0.6: `extIOR`) | float or IOR name | `air` | — | index of the exterior |
+//! | `specular_reflectance` | spectrum or texture | 1.0 | — | factor on the reflected light (not physical) |
 //!
 //! The thesis's `conductorThinFilm` (`thickness`, `mediumIOR`, default film index BK7 and
 //! 400 nm) loads with its own names and defaults.

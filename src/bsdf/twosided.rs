@@ -4,7 +4,9 @@
 //!
 //! ## Parameters
 //!
-//! PARAMS
+//! | parameter | type | default | unit | meaning |
+//! |---|---|---|---|---|
+//! | `(nested)` | bsdf | required | — | one BSDF for both sides, or two: front, then back |
 //!
 //! Known limits: none.
 

@@ -14,6 +14,7 @@
 
 mod args;
 mod error;
+pub mod manual;
 mod node;
 mod param;
 mod properties;
@@ -27,5 +28,5 @@ pub(crate) use node::describe;
 pub use node::{Child, Location, Node, Tag, Warning};
 pub use param::{Check, DefaultValue, Info, Param, Plugin, Ty};
 pub use properties::{Properties, SpectrumValue, Value};
-pub use suggest::nearest;
+pub use suggest::{did_you_mean, nearest};
 pub use values::SpectrumKind;

@@ -2,7 +2,13 @@
 //!
 //! ## Parameters
 //!
-//! PARAMS
+//! | parameter | type | default | unit | meaning |
+//! |---|---|---|---|---|
+//! | `filename` | string | required | — | the image (PNG is sRGB-decoded) |
+//! | `raw` | boolean | false | — | keep the stored values: no sRGB decoding, no uplift clamp (normal maps, data) |
+//! | `filter_type` | string | `bilinear` | — | texel interpolation; one of 'bilinear', 'nearest' |
+//! | `wrap_mode` | string | `repeat` | — | lookups outside [0, 1); one of 'repeat', 'mirror', 'clamp' |
+//! | `to_uv` | transform | identity | — | applied to the surface UV before the lookup |
 //!
 //! UV convention (Mitsuba 3): u runs left to right and v top to bottom over the image, so
 //! (0, 0) is the top-left texel corner; OBJ/PLY texture coordinates are flipped on load

@@ -3,7 +3,11 @@
 //!
 //! ## Parameters
 //!
-//! PARAMS
+//! | parameter | type | default | unit | meaning |
+//! |---|---|---|---|---|
+//! | `color0` | spectrum | 0.4 | — | colour of one set of squares |
+//! | `color1` | spectrum | 0.2 | — | colour of the other |
+//! | `to_uv` | transform | identity | — | applied to the surface UV first |
 //!
 //! As a float texture it reads each colour's largest value. Known limits: no filtering (the
 //! edges alias at a distance).

@@ -9,7 +9,13 @@
 //!
 //! ## Parameters
 //!
-//! PARAMS
+//! | parameter | type | default | unit | meaning |
+//! |---|---|---|---|---|
+//! | `(nested)` | texture | required | — | the `scales` texture whose cells are used (nested or `<ref>`; share one with the bump map so that the values follow the visible scales) |
+//! | `min` | float | 0.0 | — | value for id = 0 |
+//! | `max` | float | 1.0 | — | value for id → 1 |
+//! | `mean` | float | — | — | alternative to `min`/`max`: the centre … |
+//! | `spread` | float | — | — | … and half width: [mean − spread, mean + spread); non-negative |
 //!
 //! Limits: uniform distribution only; no filtering (the value is constant per cell, so there is
 //! nothing to blur until cells shrink below a pixel, where it should average — it does not).

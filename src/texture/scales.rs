@@ -35,7 +35,19 @@
 //!
 //! ## Parameters
 //!
-//! PARAMS
+//! | parameter | type | default | unit | meaning |
+//! |---|---|---|---|---|
+//! | `scale_u` | float | 20.0 | 1/UV | cells per unit u; in (0, 1000000] |
+//! | `scale_v` | float | 20.0 | 1/UV | rows per unit v; in (0, 1000000] |
+//! | `irregularity` | float | 0.3 | — | 0 = regular hexagons … 1 = Voronoi-like jitter; between 0 and 1 |
+//! | `gap`, `line_width` (0.6: `lineWidth`) | float | 0.08 | cells | groove width at half height; between 0 and 0.5 |
+//! | `dome` | float | 0.5 | — | 0 = flat top … 1 = fully rounded; between 0 and 1 |
+//! | `overlap` | float | 0.3 | — | 0 = symmetric … 1 = a ramp rising to the free edge; between 0 and 1 |
+//! | `overlap_angle` | float | 90.0 | degrees | direction of the free edge in cell space (0 = +u, 90 = +v) |
+//! | `tilt_degrees` | float | 0.0 | degrees | largest random tilt of a scale's normal; between 0 and 45 |
+//! | `seed` | integer | 0 | — | changes the random numbers; between 0 and 4294967295 |
+//! | `color0` | spectrum | 0.4 | — | colour of the scales (colour lookups) |
+//! | `color1` | spectrum | 0.1 | — | colour of the grooves (colour lookups) |
 //!
 //! Accepted names: `scales`, and the thesis's `reptileSkin` (with `color0`, `color1`,
 //! `lineWidth`, which 0.6 scenes upgrade to `line_width`, read as `gap`).

@@ -6,7 +6,23 @@
 //!
 //! ## Parameters
 //!
-//! PARAMS
+//! | parameter | type | default | unit | meaning |
+//! |---|---|---|---|---|
+//! | `nb_layers` (0.6: `nbLayers`) | integer | number of `surface_i` | — | N, the number of interfaces; between 2 and 4 |
+//! | `surface_i` | bsdf | required | — | interface i (0 … N − 1), top first |
+//! | `sigma_t_i` (0.6: `sigmaT_i`) | spectrum or texture | 0.0 | — | extinction of medium i (between surface i and i + 1) = its optical depth |
+//! | `albedo_i` | spectrum or texture | 0.0 | — | single-scattering albedo of medium i |
+//! | `phase_i` | float | 0.0 | — | Henyey–Greenstein g of medium i, or a nested `phase` (`hg`, `isotropic`); strictly between -1 and 1 |
+//! | `closed_form` | boolean | true | — | use the closed form when the stack allows it |
+//! | `max_depth` (0.6: `maxDepth`) | integer | -1 | — | safety bound on walk vertices (−1: 256); Russian roulette ends walks |
+//! | `pdf` | string | — | — |  |
+//! | `diffuse_pdf` (0.6: `diffusePdf`) | float | — | — |  |
+//! | `stoch_pdf_depth` | integer | — | — |  |
+//! | `pdf_repetitive` | integer | — | — |  |
+//! | `bidir` | boolean | — | — |  |
+//! | `mis` | boolean | — | — |  |
+//! | `bidir_use_analog` | boolean | — | — |  |
+//! | `max_survival_prob` | float | — | — | (these eight: the thesis's PFMC settings, accepted and ignored) |
 //!
 //! The thesis's media were Mitsuba `homogeneous` objects; here they are per-layer parameters.
 //!

@@ -83,9 +83,11 @@ pub fn load_str(
     reader::Reader::new(defines).read_root(xml, file_name)
 }
 
-/// Every parameter of the tree (shared nodes once) that was never queried, in document order.
+/// Every parameter of the tree (shared nodes once) that was never queried, in document order,
+/// each naming the plugin's declared parameters nearest to it.
 pub fn check_unused(root: &Node) -> Vec<Warning> {
     fn visit(node: &Node, seen: &mut HashSet<*const Node>, out: &mut Vec<Warning>) {
+        let info = crate::plugin::registry::info(node.tag, &node.plugin);
         for (name, loc) in node.props.unqueried() {
             let written = node.props.original_name(&name).unwrap_or(&name);
             let spelling = if written != name {
@@ -93,10 +95,16 @@ pub fn check_unused(root: &Node) -> Vec<Warning> {
             } else {
                 String::new()
             };
+            let hint = match info {
+                Some(i) => {
+                    crate::plugin::did_you_mean(&name, i.all_params().flat_map(|p| p.names()))
+                }
+                None => String::new(),
+            };
             out.push(Warning {
                 loc,
                 message: format!(
-                    "parameter '{name}'{spelling} of {} was never used",
+                    "parameter '{name}'{spelling} of {} was never used{hint}",
                     node.describe()
                 ),
             });
