@@ -131,21 +131,6 @@ impl Spectrum {
             _ => (360..=830).map(|l| self.eval(l as f32)).fold(0.0, f32::max),
         }
     }
-
-    /// The colour of this spectrum, as an emission, in linear sRGB (used for summaries and
-    /// power heuristics; not on the rendering path).
-    pub fn to_rgb_illuminant(&self) -> [f32; 3] {
-        let mut xyz = [0.0f64; 3];
-        for l in 360..=830 {
-            let v = self.eval(l as f32) as f64;
-            let b = cie::xyz_bar(l as f32);
-            for c in 0..3 {
-                xyz[c] += v * b[c] as f64;
-            }
-        }
-        let y = cie::CIE_Y_INTEGRAL as f64;
-        cie::xyz_to_linear_srgb(xyz.map(|v| (v / y) as f32))
-    }
 }
 
 /// Planck's law: spectral radiance of a blackbody at `t` kelvin, in W·m⁻²·sr⁻¹·nm⁻¹.
