@@ -118,9 +118,17 @@ impl Spectrum {
     /// Values at the path's wavelengths.
     #[inline]
     pub fn sample(&self, wl: &SampledWavelengths) -> SampledSpectrum {
+        // One match for the four wavelengths, so the uplift's arithmetic runs in SIMD lanes.
+        let l = wl.lambda;
         match self {
             Spectrum::Constant(v) => SampledSpectrum::splat(*v),
-            _ => SampledSpectrum::from_fn(|i| self.eval(wl.lambda[i])),
+            Spectrum::RgbAlbedo(p) => SampledSpectrum(p.eval4(l)),
+            Spectrum::RgbUnbounded { scale, poly } => SampledSpectrum(poly.eval4(l)) * *scale,
+            Spectrum::RgbIlluminant { scale, poly } => {
+                let (p, d) = (poly.eval4(l), l.map(cie::d65));
+                SampledSpectrum::from_fn(|i| scale * p[i] * d[i])
+            }
+            _ => SampledSpectrum::from_fn(|i| self.eval(l[i])),
         }
     }
 
