@@ -8,9 +8,9 @@
 //!   resolved by more than 4 standard errors.
 
 use ophis::bsdf::film::FilmIor;
-use ophis::gallery::render_file;
 use ophis::image_io::RgbImage;
 use ophis::optics::filmtool::{reflected_rgb, FilmStack};
+use ophis::tools::preview::render_file;
 use std::path::{Path, PathBuf};
 
 fn scenes_dir() -> PathBuf {
