@@ -50,11 +50,13 @@ class _TextBar:
     def __init__(self):
         self.t0 = time.monotonic()
         self.last = 0.0
+        self.finished = False
 
     def __call__(self, done: int, total: int) -> None:
         now = time.monotonic()
-        if done < total and now - self.last < 0.5:
+        if self.finished or (done < total and now - self.last < 0.5):
             return
+        self.finished = done >= total
         self.last = now
         frac = done / total if total else 1.0
         n = int(30 * frac)
