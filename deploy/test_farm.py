@@ -142,3 +142,34 @@ def test_merge_refuses_a_repeated_seed_and_another_scene(farm, tmp_path):
 def test_the_script_needs_a_task_id(tmp_path):
     r = sh(SLURM / "render.sbatch", tmp_path)
     assert r.returncode != 0 and "SLURM_ARRAY_TASK_ID" in r.stderr
+
+
+def k8s_command(name: str) -> str:
+    """The shell script a Job's container runs: the `- |` block (render) or the
+    `["sh", "-c", "…"]` string (merge)."""
+    text = (ROOT / "deploy" / "k8s" / name).read_text()
+    if "- |\n" in text:
+        block = text.split("- |\n", 1)[1].split("        resources:", 1)[0]
+        return "\n".join(line[10:] for line in block.splitlines())
+    return text.split('["sh", "-c", "', 1)[1].split('"]', 1)[0]
+
+
+def test_the_kubernetes_commands_run(tmp_path):
+    """The Indexed Job's command for indices 0 and 1, and the merge Job's, with /out here."""
+    bin_dir = tmp_path / "bin"
+    bin_dir.mkdir()
+    (bin_dir / "ophis").symlink_to(ophis_bin())
+    out = tmp_path / "out"
+    out.mkdir()
+    env = {**os.environ, "PATH": f"{bin_dir}:{os.environ['PATH']}", "SCENE": str(SCENE),
+           "SPP": "2", "DEFINES": "-Dspp=2"}
+    for index in (0, 1):
+        script = k8s_command("render-job.yaml").replace("/out/", f"{out}/")
+        r = subprocess.run(["sh", "-c", script], env={**env, "JOB_COMPLETION_INDEX": str(index)},
+                           capture_output=True, text=True)
+        assert r.returncode == 0, (script, r.stderr)
+    merge = k8s_command("merge-job.yaml").replace("/out/", f"{out}/")
+    r = subprocess.run(["sh", "-c", merge], env=env, capture_output=True, text=True)
+    assert r.returncode == 0, (merge, r.stderr)
+    _, info = ophis.read(out / "merged.exr")
+    assert info.seeds == (1, 2) and info.spp == 4

@@ -249,6 +249,8 @@ pub fn render(
     Ok(Rendered {
         width: film.width as usize,
         height: film.height as usize,
+        // Channels beyond RGB (the `aov` integrator's, once it exists) are appended to each
+        // pixel here and named in `channels`; Python reshapes by the number of names.
         channels: vec!["R".into(), "G".into(), "B".into()],
         data: film.to_linear_srgb().into_iter().flatten().collect(),
         metadata,

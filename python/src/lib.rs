@@ -204,11 +204,12 @@ fn render<'py>(
             }
             let outcome = py.check_signals().and_then(|()| {
                 let d = counter.done.load(Ordering::Relaxed);
+                let total = counter.total.load(Ordering::Relaxed);
+                // Before the first tile finishes the total is not known yet (0).
                 match &progress {
-                    Some(cb) if d != reported => {
+                    Some(cb) if d != reported && total > 0 => {
                         reported = d;
-                        cb.call1((d, counter.total.load(Ordering::Relaxed)))
-                            .map(|_| ())
+                        cb.call1((d, total)).map(|_| ())
                     }
                     _ => Ok(()),
                 }

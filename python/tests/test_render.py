@@ -50,6 +50,7 @@ def test_progress_callback_sees_every_sample(scene):
     ophis.render(scene, spp=8, progress=lambda d, t: calls.append((d, t)))
     total = 8 * 64 * 48
     assert calls and calls[-1] == (total, total)
+    assert all(t == total for _, t in calls)
     done = [d for d, _ in calls]
     assert done == sorted(done)
 
