@@ -261,7 +261,7 @@ fn write(
     data: &[u8],
     metadata: Vec<(String, String)>,
 ) -> PyResult<()> {
-    if data.len() != width * height * 12 {
+    if width.checked_mul(height).and_then(|n| n.checked_mul(12)) != Some(data.len()) {
         return Err(PyValueError::new_err(format!(
             "{} bytes for a {width} × {height} RGB float32 image",
             data.len()
