@@ -44,6 +44,11 @@ def test_scene_hash_matches_the_cli(tmp_path, cli, reference_xml):
     _, info = ophis.read(tmp_path / "c.exr")
     assert info.scene_hash == ophis.load_file(reference_xml, spp=1).scene_hash
     assert info.scene == "reference.xml -Dspp=1"
+    # The built-in scene too (`ophis render` without a scene).
+    cli("render", "-Dwidth=16", "-Dheight=9", "--spp", 1, "-q", "-o", tmp_path / "x.exr")
+    _, info = ophis.read(tmp_path / "x.exr")
+    assert info.scene_hash == ophis.load_xenopeltis(width=16, height=9).scene_hash
+    assert info.scene == "xenopeltis.xml -Dwidth=16 -Dheight=9"
 
 
 def test_scene_error_carries_the_location_the_cli_prints(tmp_path, ophis_bin):
