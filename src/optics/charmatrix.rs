@@ -202,22 +202,22 @@ pub fn finish(
         let [a, b, c, d] = mm.m;
         let bb = a + b * y_exit;
         let cc = c + d * y_exit;
+        // Divided by max(|Re|, |Im|) of the denominator first, so that |den|² cannot underflow
+        // (y_inc → 0 at grazing incidence).
         let den = bb * y_inc + cc;
-        let r = (bb * y_inc - cc) / den;
-        let t = prop * (2.0 * y_inc) / den * 2f64.powi(-mm.exp);
-        let t_pow =
-            4.0 * y_inc * y_exit.re / den.norm_sqr() * prop.norm_sqr() * 2f64.powi(-2 * mm.exp);
+        let s = 1.0 / den.re.abs().max(den.im.abs());
+        let (den, num) = (den * s, (bb * y_inc - cc) * s);
+        let r = num / den;
+        let t = prop * (2.0 * y_inc * s) / den * 2f64.powi(-mm.exp);
+        let t_pow = 4.0 * (y_inc * s) * (y_exit.re * s) / den.norm_sqr()
+            * prop.norm_sqr()
+            * 2f64.powi(-2 * mm.exp);
         (r, t, t_pow)
     };
     let (r_s, t_s, ts) = one(&m.s, n_inc * cos_inc, q_exit);
     let (r_p, t_h, tp) = one(&m.p, cos_inc / n_inc, q_exit / (n_exit * n_exit));
-    let fin = |x: f64| {
-        if x.is_finite() {
-            x.clamp(0.0, 1.0)
-        } else {
-            0.0
-        }
-    };
+    // A NaN can only come from a degenerate 0/0 (no interface at exactly grazing incidence).
+    let fin = super::simd4::unit;
     let amp = Amplitudes {
         r_s,
         r_p,

@@ -45,14 +45,30 @@ pub fn chart(
     if !(total > 0.0) {
         return Err("the chart scales the stack's thicknesses, but they are all 0 nm".into());
     }
+    let step = step_nm.max(1);
+    let lambdas: Vec<f32> = (360..=830).step_by(step).map(|l| l as f32).collect();
     let mut out = vec![[0.0f32; 3]; width * height];
+    let mut r = vec![0.0f64; lambdas.len()];
     for col in 0..width {
         let d = d0 + (d1 - d0) * (col as f64 + 0.5) / width as f64;
         let st = stack.scaled(d / total);
+        // Four wavelengths at a time through the rendering evaluator (equal to the exact path
+        // to 1e-12; the last group repeats its final wavelength).
+        let evs: Vec<_> = lambdas
+            .chunks(4)
+            .map(|c| st.prepare(std::array::from_fn(|i| c[i.min(c.len() - 1)]), 1.0))
+            .collect();
         for row in 0..height {
             let a = 90.0 * (height - row) as f64 - 45.0;
             let a = a / height as f64;
-            let c = reflected_rgb(|l| rt_deg(&st, a, l, from_inside).r(), step_nm);
+            let cos = a.to_radians().cos().max(0.0);
+            for (k, ev) in evs.iter().enumerate() {
+                let rr = ev.rt(cos, from_inside).r();
+                for (i, v) in r[4 * k..].iter_mut().take(4).enumerate() {
+                    *v = rr[i];
+                }
+            }
+            let c = reflected_rgb(|l| r[(l as usize - 360) / step], step);
             out[row * width + col] = c.map(|v| v as f32);
         }
     }

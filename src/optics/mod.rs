@@ -6,11 +6,13 @@
 //! `crate::plot`.
 
 pub mod charmatrix;
+mod cplxmat4;
 pub mod filmstack;
 #[cfg(test)]
 mod filmstack_tests;
 pub mod filmtool;
 pub mod ior;
+mod realmat4;
 pub mod simd4;
 pub mod stackeval;
 pub mod stackspec;
