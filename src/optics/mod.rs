@@ -2,8 +2,8 @@
 //! stacks of layers by the characteristic-matrix method, a fast four-wavelength evaluator for
 //! rendering), refractive indices, and the film tool behind `ophis thinfilm`.
 //!
-//! Layering: nothing here imports `bsdf`, `scene` or the renderer; `filmtool` alone draws with
-//! `crate::plot`.
+//! Layering: nothing here imports `bsdf`, `scene`, `plot` or the renderer (the figures of
+//! `ophis thinfilm` are drawn by the binary).
 
 pub mod charmatrix;
 mod cplxmat4;

@@ -7,12 +7,12 @@
 //! per wavelength, all four wavelengths at once in f64 lanes ([`super::simd4`]; compiled for
 //! AVX2 where the CPU has it, detected at run time, with bit-identical results):
 //!
-//! - **Real path** ([`super::realmat4`]) — every layer lossless and the wave propagating in every
+//! - **Real path** (`optics/realmat4.rs`) — every layer lossless and the wave propagating in every
 //!   layer (n_j² > σ²) at all four wavelengths: the characteristic matrices have real diagonal
 //!   and imaginary off-diagonal entries, a form closed under multiplication, so a product is four
 //!   reals per wavelength. The base (dielectric, totally reflecting, or metal) enters only the
 //!   final complex step.
-//! - **Complex path** ([`super::cplxmat4`]) — any absorbing layer, or an evanescent wave in some
+//! - **Complex path** (`optics/cplxmat4.rs`) — any absorbing layer, or an evanescent wave in some
 //!   layer (total internal reflection inside the stack): complex products, the scaled matrices
 //!   e^{iδ}M of [`super::charmatrix`] for the layers that need them (no overflow however thick
 //!   the layer), an exp and a sin/cos pair per such layer.
@@ -261,5 +261,68 @@ impl StackEval {
         let [r_s, r_p, t_s, t_p] =
             rt.unwrap_or_else(|| rt_complex(l, g, from_inside, &sigma2, &y0_s, &y0_p, exit));
         Rt4 { r_s, r_p, t_s, t_p }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::optics::ior::Ior;
+    use crate::optics::stackspec::parse_items;
+
+    fn stack(spec: &str, base: Ior) -> FilmStack {
+        FilmStack::new(Ior::Real(1.0), parse_items(spec).unwrap(), base).unwrap()
+    }
+
+    #[test]
+    fn the_avx2_build_gives_the_baseline_bits() {
+        // Real and complex paths, periodic groups, metal base, both sides.
+        let cases = [
+            stack("1.56:300,1.33:120,2.1:80", Ior::Real(1.5)),
+            stack("(2.3:59.8,1.38:99.6)x10,2.3:59.8", Ior::Real(1.52)),
+            stack(
+                "keratin:100,1.7+0.03i:80,1.0:90",
+                Ior::complex(0.35, 2.7).unwrap(),
+            ),
+            stack("(keratin:100,1.0:90)x4", Ior::Keratin),
+        ];
+        for st in &cases {
+            let ev = st.prepare([400.0, 487.5, 590.0, 701.25], 1.1);
+            for k in 0..200 {
+                let cos = (k as f64 + 0.5) / 200.0;
+                for inside in [false, true] {
+                    assert_eq!(ev.rt(cos, inside), ev.rt_lanes(cos, inside), "{st} {cos}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn thickness_scale_and_bad_inputs() {
+        let st = stack("1.56:300,1.2:150", Ior::Real(1.5));
+        let lam = [450.0, 500.0, 550.0, 600.0];
+        let twice = stack("1.56:600,1.2:300", Ior::Real(1.5))
+            .prepare(lam, 1.0)
+            .rt(0.8, false);
+        assert_eq!(st.prepare(lam, 2.0).rt(0.8, false), twice);
+        // A scale that is not a finite number ≥ 0 removes the layers: the bare 1|1.5 interface.
+        let bare = FilmStack::new(Ior::Real(1.0), vec![], Ior::Real(1.5)).unwrap();
+        let want = bare.prepare(lam, 1.0).rt(0.8, false);
+        for s in [f32::NAN, -1.0, f32::INFINITY] {
+            assert_eq!(st.prepare(lam, s).rt(0.8, false), want, "{s}");
+        }
+        // NaN wavelengths are replaced, NaN and out-of-range cosines clamped: all finite.
+        let ev = st.prepare([f32::NAN, 0.0, -5.0, 1e30], 1.0);
+        for cos in [f64::NAN, -1.0, 0.0, 0.5, 7.0] {
+            let rt = ev.rt(cos, true);
+            assert!(
+                rt.r_s
+                    .iter()
+                    .chain(&rt.t_p)
+                    .all(|v| (0.0..=1.0).contains(v)),
+                "{rt:?}"
+            );
+        }
+        assert_eq!(ev.rt(0.0, false).r(), [1.0; 4]);
     }
 }
