@@ -39,6 +39,7 @@ def thinfilm(
     int_k: Optional[float],
     wavelengths: list[float],
     angles: list[float],
+    stack: Optional[str],
 ) -> tuple[list[float], list[float], list[float], list[float], list[float]]: ...
 def bsdf_albedo(
     scene: Scene, id: str, theta_i: float, wavelengths: Optional[list[float]],

@@ -50,12 +50,30 @@ def _floats(v, name: str) -> list[float]:
     return a.tolist()
 
 
+def _stack_text(stack) -> str:
+    """``[(n, d_nm), …]`` (or a string already in ``--stack`` syntax) as ``--stack`` text."""
+    if isinstance(stack, str):
+        return stack
+    items = []
+    for i, layer in enumerate(stack):
+        try:
+            n, d = layer
+        except (TypeError, ValueError):
+            raise ValueError(f"stack[{i}]: expected (index, thickness_nm), got {layer!r}") from None
+        if isinstance(n, complex):
+            n = f"{n.real}{n.imag:+}i"
+        items.append(f"{_ior_text(n, f'stack[{i}]')}:{float(d)!r}")
+    if not items:
+        raise ValueError("stack: expected at least one (index, thickness_nm) layer")
+    return ",".join(items)
+
+
 def thinfilm(*, film_ior: Ior = 1.56, thickness: float = 900.0,
              wavelengths: Optional[Sequence[float]] = None,
              angles: Sequence[float] = (0.0,), ext_ior: Ior = 1.0,
              int_ior: Optional[Ior] = None, int_eta: Optional[float] = None,
-             int_k: Optional[float] = None) -> ThinFilm:
-    """Exact (Airy) reflectance of a thin film, as ``ophis thinfilm`` computes it.
+             int_k: Optional[float] = None, stack=None) -> ThinFilm:
+    """Exact reflectance of a thin film or a film stack, as ``ophis thinfilm`` computes it.
 
     Args:
         film_ior: the film's index: a number, ``"keratin"`` (1.532 + 5890/λ²), or a named
@@ -67,8 +85,11 @@ def thinfilm(*, film_ior: Ior = 1.56, thickness: float = 900.0,
         int_ior: a dielectric base under the film (number or name); without it and without
             ``int_eta``/``int_k`` the base is air (a free-standing film, a soap bubble).
         int_eta, int_k: a metal base n + ik instead.
+        stack: instead of ``film_ior``/``thickness``, layers outside in: a list of
+            ``(index, thickness_nm)`` (index a number, a complex ``n+kj``, ``"keratin"`` or a
+            name), or a string in ``ophis thinfilm --stack`` syntax, e.g.
+            ``"(2.3:59.78,1.38:99.64)x6"`` for a six-pair Bragg mirror.
 
-    Arguments are keyword-only, so that film stacks (``stack=[(n, d_nm), …]``) can join them.
     Raises ValueError naming the argument for negative thickness, angles outside 0–90°,
     non-positive wavelengths or indices, unknown index names.
     """
@@ -82,7 +103,8 @@ def thinfilm(*, film_ior: Ior = 1.56, thickness: float = 900.0,
         _ior_text(film_ior, "film_ior"), float(thickness), _ior_text(ext_ior, "ext_ior"),
         None if int_ior is None else _ior_text(int_ior, "int_ior"),
         None if int_eta is None else float(int_eta),
-        None if int_k is None else float(int_k), wl, an)
+        None if int_k is None else float(int_k), wl, an,
+        None if stack is None else _stack_text(stack))
     shape = (len(wl), len(an))
     return ThinFilm(
         wavelengths=np.array(wl), angles=np.array(an),

@@ -10,7 +10,10 @@ use ophis::scene::builtin::XENOPELTIS_XML;
 use ophis::image_io::{read_exr_metadata, read_image, write_exr, write_png, ImageError, RgbImage};
 use ophis::integrator::PathStrategy;
 use ophis::merge::{decode_tile_spp, render_metadata, SceneIdentity, KEY_TILE_SPP};
-use ophis::optics::filmtool::{parse_film_ior, parse_ior, FilmStack};
+use ophis::optics::filmstack::FilmStack;
+use ophis::optics::filmtool::{parse_index, rt_deg, stack_rgb};
+use ophis::optics::ior::Ior;
+use ophis::optics::stackspec::parse_items;
 use ophis::render::{render_with, Progress, RenderControl, RenderOptions, TileOrder};
 use ophis::scene::build::{build_material, load_scene, load_scene_str, LoadOptions};
 use ophis::scene::mitsuba::{self, Node, SceneError};
@@ -326,6 +329,9 @@ pub fn read(path: &Path) -> Result<ReadImage, Error> {
 pub struct FilmArgs<'a> {
     pub film_ior: &'a str,
     pub thickness_nm: f64,
+    /// A stack in `ophis thinfilm --stack` syntax (outside in, `INDEX:NM`, groups
+    /// `(…)xN`); replaces `film_ior` and `thickness_nm` when given.
+    pub stack: Option<&'a str>,
     pub ext_ior: &'a str,
     /// A dielectric base (index or name), or a metal base n + ik.
     pub int_ior: Option<&'a str>,
@@ -359,7 +365,7 @@ pub fn thinfilm(a: &FilmArgs, wavelengths: &[f64], angles: &[f64]) -> Result<Fil
             "wavelengths: {l} nm is not a positive wavelength"
         )));
     }
-    let (base_n, base_k) = match (a.int_ior, a.int_nk) {
+    let base = match (a.int_ior, a.int_nk) {
         (Some(_), Some(_)) => {
             return Err(v(
                 "give int_ior (a dielectric base) or int_eta and int_k (a metal \
@@ -367,7 +373,7 @@ pub fn thinfilm(a: &FilmArgs, wavelengths: &[f64], angles: &[f64]) -> Result<Fil
                     .into(),
             ))
         }
-        (Some(s), None) => (parse_ior("int_ior", s).map_err(v)?, 0.0),
+        (Some(s), None) => parse_index("int_ior", s).map_err(v)?,
         (None, Some((n, k))) => {
             if !(n > 0.0 && n.is_finite()) {
                 return Err(v(format!("int_eta: must be positive, got {n}")));
@@ -375,16 +381,20 @@ pub fn thinfilm(a: &FilmArgs, wavelengths: &[f64], angles: &[f64]) -> Result<Fil
             if !(k >= 0.0 && k.is_finite()) {
                 return Err(v(format!("int_k: must be ≥ 0, got {k}")));
             }
-            (n, k)
+            Ior::complex(n, k).map_err(|e| v(format!("int_eta, int_k: {e}")))?
         }
-        (None, None) => (1.0, 0.0),
+        (None, None) => Ior::Real(1.0),
     };
-    let stack = FilmStack {
-        ext: parse_ior("ext_ior", a.ext_ior).map_err(v)?,
-        film: parse_film_ior("film_ior", a.film_ior).map_err(v)?,
-        d_nm: a.thickness_nm,
-        base_n,
-        base_k,
+    let ext = parse_index("ext_ior", a.ext_ior).map_err(v)?;
+    let stack = match a.stack {
+        Some(spec) => {
+            let items = parse_items(spec).map_err(|e| v(format!("stack: {e}")))?;
+            FilmStack::new(ext, items, base).map_err(|e| v(format!("stack: {e}")))?
+        }
+        None => {
+            let film = parse_index("film_ior", a.film_ior).map_err(v)?;
+            FilmStack::film(ext, film, a.thickness_nm, base).map_err(v)?
+        }
     };
     let n = wavelengths.len() * angles.len();
     let mut t = FilmTable {
@@ -396,7 +406,7 @@ pub fn thinfilm(a: &FilmArgs, wavelengths: &[f64], angles: &[f64]) -> Result<Fil
     };
     for &l in wavelengths {
         for &ang in angles {
-            let rt = stack.rt(ang, l);
+            let rt = rt_deg(&stack, ang, l, false);
             t.r.push(rt.r());
             t.t.push(rt.t());
             t.r_s.push(rt.r_s);
@@ -404,7 +414,7 @@ pub fn thinfilm(a: &FilmArgs, wavelengths: &[f64], angles: &[f64]) -> Result<Fil
         }
     }
     for &ang in angles {
-        t.rgb.extend(stack.reflected_rgb(ang));
+        t.rgb.extend(stack_rgb(&stack, ang, false));
     }
     Ok(t)
 }

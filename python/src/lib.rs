@@ -310,6 +310,7 @@ fn thinfilm(
     int_k: Option<f64>,
     wavelengths: Vec<f64>,
     angles: Vec<f64>,
+    stack: Option<String>,
 ) -> PyResult<(Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>)> {
     let int_nk = match (int_eta, int_k) {
         (Some(n), Some(k)) => Some((n, k)),
@@ -323,6 +324,7 @@ fn thinfilm(
     let args = FilmArgs {
         film_ior: &film_ior,
         thickness_nm: thickness,
+        stack: stack.as_deref(),
         ext_ior: &ext_ior,
         int_ior: int_ior.as_deref(),
         int_nk,

@@ -19,6 +19,10 @@ def cli_table(cli, *args):
      ["--film-ior", "keratin", "--thickness", "300", "--int-eta", "0.43", "--int-k", "2.45"]),
     (dict(film_ior="water", thickness=120.5, ext_ior=1.33, int_ior="bk7"),
      ["--film-ior", "water", "--thickness", "120.5", "--ext-ior", "1.33", "--int-ior", "bk7"]),
+    (dict(stack=[(2.3, 59.78), (1.38, 99.64)] * 6, int_ior=1.52),
+     ["--stack", "(2.3:59.78,1.38:99.64)x6", "--int-ior", "1.52"]),
+    (dict(stack="keratin:100,1.7+0.03i:80,keratin:100", int_ior="keratin"),
+     ["--stack", "keratin:100,1.7+0.03i:80,keratin:100", "--int-ior", "keratin"]),
 ])
 def test_thinfilm_matches_the_cli(cli, py, args):
     angles, wl = [0.0, 30.0, 60.0, 89.0], np.arange(380.0, 781.0, 20.0)
@@ -52,6 +56,8 @@ def test_thinfilm_physics_and_defaults():
     (dict(wavelengths=[0]), "wavelengths"), (dict(film_ior=-1.2), "film_ior"),
     (dict(film_ior="unobtainium"), "film_ior"), (dict(int_eta=1.0), "int_eta and int_k"),
     (dict(int_ior=1.5, int_eta=1.0, int_k=1.0), "not both"), (dict(angles=[]), "angles"),
+    (dict(stack=[]), "stack"), (dict(stack=[(1.5,)]), r"stack\[0\]"),
+    (dict(stack="glass:100"), "stack"),
 ])
 def test_thinfilm_errors_name_the_argument(kw, words):
     with pytest.raises(ValueError, match=words):
