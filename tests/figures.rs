@@ -7,11 +7,11 @@
 //! - the absorption figure (4.5) darkens monotonically with the layer's thickness, each step
 //!   resolved by more than 4 standard errors.
 
-use ophis::tools::preview::render_file;
 use ophis::image_io::RgbImage;
 use ophis::optics::filmstack::FilmStack;
 use ophis::optics::filmtool::{reflected_rgb, rt_deg};
 use ophis::optics::ior::Ior;
+use ophis::tools::preview::render_file;
 use std::path::{Path, PathBuf};
 
 fn scenes_dir() -> PathBuf {
