@@ -98,6 +98,7 @@ scene_tests! {
     cornell_box => "cornell-box.xml",
     cornell_mesh => "cornell-mesh.xml",
     daylight => "daylight.xml",
+    filmstack_compare => "filmstack-compare.xml",
     layered_skin => "layered-skin.xml",
     scales_snake_thinfilm => "scales-snake-thinfilm.xml",
     scales_snake => "scales-snake.xml",
