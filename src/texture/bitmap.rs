@@ -20,19 +20,16 @@
 use super::{uv_transform, FloatTexture, NormalSource, SpectrumTexture, Texture, Want};
 use crate::image_io::{read_image, RgbImage};
 use crate::math::{Mat3, Vec2};
-use crate::plugin::{Args, Check, DefaultValue, Info, Param, Plugin, SceneError, Tag, Ty};
+use crate::plugin::{declare, Args, Check, DefaultValue, Param, SceneError, Ty};
 use crate::spectrum::rgb2spec::{rgb_to_sigmoid, SigmoidPolynomial};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use std::sync::Arc;
 
-/// The `bitmap` plugin.
-pub(crate) const PLUGIN: Plugin<Texture, Want> = Plugin {
-    info: Info {
-        name: "bitmap",
-        aliases: &[],
-        tag: Tag::Texture,
-        summary: "an image: EXR, Radiance HDR or PNG",
-        params: &[&[
+declare!(
+    /// The `bitmap` plugin.
+    pub(crate) PLUGIN: Texture, Want = Texture "bitmap" []
+    "an image: EXR, Radiance HDR or PNG"
+    [&[
             Param::new("filename", Ty::String, DefaultValue::Required)
                 .doc("the image (PNG is sRGB-decoded)"),
             Param::bool("raw", false).doc(
@@ -46,11 +43,7 @@ pub(crate) const PLUGIN: Plugin<Texture, Want> = Plugin {
                 .doc("lookups outside [0, 1)"),
             Param::new("to_uv", Ty::Transform, DefaultValue::Derived("identity"))
                 .doc("applied to the surface UV before the lookup"),
-        ]],
-        file: file!(),
-    },
-    load,
-};
+        ]] load);
 
 fn load(a: &mut Args, want: Want) -> Result<Texture, SceneError> {
     let path = a
