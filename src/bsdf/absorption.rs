@@ -28,7 +28,7 @@
 
 use super::{BsdfSample, BxdfFlags, Material};
 use crate::math::{warp, Vec2, Vec3, INV_PI};
-use crate::plugin::{declare, Args, Check, DefaultValue, Param, SceneError, SpectrumKind, Tag, Ty};
+use crate::plugin::{declare, Args, Check, DefaultValue, Param, SceneError, SpectrumKind, Ty};
 use crate::spectrum::SampledSpectrum;
 
 /// The parameters.

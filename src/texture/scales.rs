@@ -57,7 +57,7 @@
 
 use super::{FloatTexture, NormalSource, SpectrumTexture, Texture, Want};
 use crate::math::Vec2;
-use crate::plugin::{declare, Args, Check, DefaultValue, Param, SceneError, SpectrumKind, Tag, Ty};
+use crate::plugin::{declare, Args, Check, DefaultValue, Param, SceneError, SpectrumKind, Ty};
 use std::sync::Arc;
 
 /// The parameters.
