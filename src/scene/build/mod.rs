@@ -46,11 +46,21 @@ pub const MAX_RESOLUTION: i64 = 1 << 15;
 /// ([`crate::limits`]). Warnings (unknown plugins, unused parameters) are returned
 /// rather than printed.
 pub fn load_scene(path: &Path, opts: &LoadOptions) -> Result<(Scene, Vec<Warning>), SceneError> {
-    let (root, mut warnings) = mitsuba::load_file(path, &opts.defines)?;
-    crate::limits::check(&root, crate::limits::machine_memory())?;
-    let scene = build_scene(&root, opts, &mut warnings)?;
-    warnings.extend(mitsuba::check_unused(&root));
+    let mut warnings = Vec::new();
+    let scene = load_scene_into(path, opts, &mut warnings)?;
     Ok((scene, warnings))
+}
+
+/// [`load_scene`] that adds its warnings to `warnings` even when loading fails, so that the
+/// warnings leading up to an error (a `<path>` refused, a parameter misspelled) can be shown
+/// with it.
+pub fn load_scene_into(
+    path: &Path,
+    opts: &LoadOptions,
+    warnings: &mut Vec<Warning>,
+) -> Result<Scene, SceneError> {
+    let root = mitsuba::load_file_into(path, &opts.defines, warnings)?;
+    finish(&root, opts, warnings)
 }
 
 /// Loads a scene from XML text (`file_name` names it in messages and anchors relative paths).
@@ -59,11 +69,31 @@ pub fn load_scene_str(
     file_name: &Path,
     opts: &LoadOptions,
 ) -> Result<(Scene, Vec<Warning>), SceneError> {
-    let (root, mut warnings) = mitsuba::load_str(xml, file_name, &opts.defines)?;
-    crate::limits::check(&root, crate::limits::machine_memory())?;
-    let scene = build_scene(&root, opts, &mut warnings)?;
-    warnings.extend(mitsuba::check_unused(&root));
+    let mut warnings = Vec::new();
+    let scene = load_scene_str_into(xml, file_name, opts, &mut warnings)?;
     Ok((scene, warnings))
+}
+
+/// [`load_scene_str`] that adds its warnings to `warnings` even when loading fails.
+pub fn load_scene_str_into(
+    xml: &str,
+    file_name: &Path,
+    opts: &LoadOptions,
+    warnings: &mut Vec<Warning>,
+) -> Result<Scene, SceneError> {
+    let root = mitsuba::load_str_into(xml, file_name, &opts.defines, warnings)?;
+    finish(&root, opts, warnings)
+}
+
+fn finish(
+    root: &Node,
+    opts: &LoadOptions,
+    warnings: &mut Vec<Warning>,
+) -> Result<Scene, SceneError> {
+    crate::limits::check(root, crate::limits::machine_memory())?;
+    let scene = build_scene(root, opts, warnings)?;
+    warnings.extend(mitsuba::check_unused(root));
+    Ok(scene)
 }
 
 /// Everything collected while walking the tree.
