@@ -31,6 +31,31 @@ pub(crate) fn multilayered(
     let named = (0..)
         .take_while(|i| node.child(&format!("surface_{i}")).is_some())
         .count() as i64;
+    if !node.props.contains("nb_layers") && !(2..=MAX_INTERFACES as i64).contains(&named) {
+        // Without 'nb_layers' the count comes from the surfaces; say so rather than "got 0".
+        let hint = match node
+            .props
+            .iter()
+            .find(|(n, _, _)| n.eq_ignore_ascii_case("nblayers"))
+        {
+            Some((n, v, _)) => format!(
+                " ('{n}' = {} is not read: version 3 scenes spell it 'nb_layers')",
+                match v {
+                    crate::scene::mitsuba::Value::Integer(i) => i.to_string(),
+                    other => format!("a {}", other.type_name()),
+                }
+            ),
+            None => String::new(),
+        };
+        return Err(SceneError::at(
+            &node.loc,
+            format!(
+                "{} found {named} nested bsdfs 'surface_0', 'surface_1', … and no 'nb_layers'{hint}; \
+                 expected 2 to {MAX_INTERFACES} surfaces",
+                node.describe()
+            ),
+        ));
+    }
     let n = checked_int(node, "nb_layers", named, 2, MAX_INTERFACES as i64)? as usize;
     let mut surfaces = Vec::with_capacity(n);
     for i in 0..n {

@@ -11,7 +11,7 @@ mod thinfilm;
 pub mod values;
 
 use super::mitsuba::{self, Node, SceneError, Tag, Warning};
-use super::{IntegratorSettings, SamplerSettings, Scene};
+use super::{IntegratorKind, IntegratorSettings, SamplerSettings, Scene};
 use crate::accel::Bvh;
 use crate::bsdf::Material;
 use crate::camera::{FovAxis, PerspectiveCamera};
@@ -121,6 +121,18 @@ fn build_scene(
         let node = &child.node;
         match node.tag {
             Tag::Shape => shapes::add_shape(&mut b, node, warnings)?,
+            // Declared for shapes that attach it with <ref id="…"/>.
+            Tag::Emitter if node.plugin == "area" && node.id.is_some() => {
+                if !attached_anywhere(root, node) {
+                    warnings.push(Warning {
+                        loc: node.loc.clone(),
+                        message: format!(
+                            "{} is attached to no shape; it emits nothing",
+                            node.describe()
+                        ),
+                    });
+                }
+            }
             Tag::Emitter => emitters::add_emitter(&mut b, node, warnings)?,
             Tag::Sensor => {
                 if sensor.is_some() {
@@ -216,23 +228,90 @@ fn build_scene(
     })
 }
 
+/// Whether some shape (or a shape in a `shapegroup`) holds `emitter` as a child.
+fn attached_anywhere(root: &Node, emitter: &Arc<Node>) -> bool {
+    let holds = |s: &Node| s.children.iter().any(|c| Arc::ptr_eq(&c.node, emitter));
+    root.children_with_tag(Tag::Shape)
+        .any(|s| holds(s) || s.children_with_tag(Tag::Shape).any(|g| holds(g)))
+}
+
 fn build_integrator(
     node: &Node,
     warnings: &mut Vec<Warning>,
 ) -> Result<IntegratorSettings, SceneError> {
-    match node.plugin.as_str() {
-        "path" => {}
-        other => warnings.push(Warning {
-            loc: node.loc.clone(),
-            message: format!(
-                "integrator '{other}' is not supported; using 'path' with its parameters"
-            ),
-        }),
-    }
+    let kind = match node.plugin.as_str() {
+        "path" => IntegratorKind::Path,
+        // Mitsuba's `moment` renders its (first) nested integrator and adds second-moment AOVs.
+        "moment" => {
+            let nested: Vec<&Arc<Node>> = node.children_with_tag(Tag::Integrator).collect();
+            let Some(first) = nested.first() else {
+                return Err(SceneError::at(
+                    &node.loc,
+                    "integrator 'moment' needs a nested integrator, e.g. <integrator type=\"path\"/>",
+                ));
+            };
+            let extra = if nested.len() > 1 {
+                format!(
+                    " (the first of its {}; the others are ignored)",
+                    nested.len()
+                )
+            } else {
+                String::new()
+            };
+            warnings.push(Warning {
+                loc: node.loc.clone(),
+                message: format!(
+                    "integrator 'moment': rendering its nested integrator{extra}; the \
+                     second-moment AOVs are not written"
+                ),
+            });
+            return build_integrator(first, warnings);
+        }
+        "direct" => {
+            let shading = node.props.contains("shading_samples");
+            if shading
+                && (node.props.contains("emitter_samples") || node.props.contains("bsdf_samples"))
+            {
+                return Err(SceneError::at(
+                    &node.loc,
+                    "integrator 'direct': found 'shading_samples' and 'emitter_samples' or \
+                     'bsdf_samples'; expected either the first or the others",
+                ));
+            }
+            let all = checked_int(node, "shading_samples", 1, 0, 1 << 16)?;
+            let emitter_samples = checked_int(node, "emitter_samples", all, 0, 1 << 16)? as u32;
+            let bsdf_samples = checked_int(node, "bsdf_samples", all, 0, 1 << 16)? as u32;
+            if emitter_samples + bsdf_samples == 0 {
+                return Err(SceneError::at(
+                    &node.loc,
+                    "integrator 'direct': found no emitter or BSDF samples; expected at least one",
+                ));
+            }
+            let hide_emitters = node.props.get_bool("hide_emitters", false)?;
+            return Ok(IntegratorSettings {
+                kind: IntegratorKind::Direct {
+                    emitter_samples,
+                    bsdf_samples,
+                },
+                hide_emitters,
+                ..IntegratorSettings::default()
+            });
+        }
+        other => {
+            warnings.push(Warning {
+                loc: node.loc.clone(),
+                message: format!(
+                    "integrator '{other}' is not supported; using 'path' with its parameters"
+                ),
+            });
+            IntegratorKind::Path
+        }
+    };
     let max_depth = checked_int(node, "max_depth", -1, -1, 1 << 20)?;
     let rr_depth = checked_int(node, "rr_depth", 5, 0, 1 << 20)?;
     let hide_emitters = node.props.get_bool("hide_emitters", false)?;
     Ok(IntegratorSettings {
+        kind,
         max_depth: if max_depth < 0 {
             None
         } else {
