@@ -49,6 +49,8 @@ fn on_sphere(x: usize, y: usize, n: usize) -> Option<bool> {
     }
 }
 
+// Channels index both the pixel and nothing else; a range loop reads best here.
+#[allow(clippy::needless_range_loop)]
 fn check_furnace(integrator: &str, albedo: f32, strategy: PathStrategy, background: f64) {
     let sc = scene(&furnace(integrator, albedo));
     let img = render_rgb(&sc, 32, strategy);
