@@ -2,15 +2,15 @@
 //!
 //! | XML name   | type      | default | meaning                                                  |
 //! |------------|-----------|---------|----------------------------------------------------------|
-//! | `filename` | string    | —       | EXR, Radiance HDR or PNG file (PNG is sRGB-decoded)      |
+//! | `filename` | string    | —       | EXR, Radiance HDR, PNG or JPEG file (PNG, JPEG sRGB-decoded) |
 //! | `raw`      | boolean   | false   | keep the stored values: no sRGB decoding, no uplift clamp (normal maps, data) |
 //! | `filter_type` | string | bilinear| `bilinear` or `nearest`                                  |
 //! | `wrap_mode`| string    | repeat  | `repeat`, `mirror` or `clamp`                            |
 //! | `to_uv`    | transform | id.     | applied to the surface UV before the lookup              |
 //!
 //! UV convention (Mitsuba 3): u runs left to right and v top to bottom over the image, so
-//! (0, 0) is the top-left texel corner; OBJ/PLY texture coordinates are flipped on load
-//! (`flip_tex_coords`) to match. Colours are linear sRGB; as a spectrum each texel is uplifted
+//! (0, 0) is the top-left texel corner; OBJ texture coordinates are flipped on load
+//! (`flip_tex_coords`) to match, PLY and serialized ones are used as stored (as in Mitsuba 3). Colours are linear sRGB; as a spectrum each texel is uplifted
 //! once at load (Jakob & Hanika 2019) and the four neighbours' spectra are blended, which is
 //! the same as blending reflectances. As a float texture the texture reads the mean of the
 //! three channels. Known limits: no MIP-mapping (distant textures alias), no alpha.

@@ -322,12 +322,13 @@ pub(super) fn bitmap(tex: &Node) -> Result<Arc<Bitmap>, SceneError> {
         .unwrap_or_else(|| tex.loc.clone());
     let mut image = read_image(&path).map_err(|e| SceneError::at(&loc, format!("bitmap: {e}")))?;
     let raw = tex.props.get_bool("raw", false)?;
-    let is_png = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .is_some_and(|e| e.eq_ignore_ascii_case("png"));
-    if raw && is_png {
-        // PNGs are read as sRGB-encoded colour; raw data (normal maps) keeps the stored values.
+    let is_8bit = path.extension().and_then(|e| e.to_str()).is_some_and(|e| {
+        ["png", "jpg", "jpeg"]
+            .iter()
+            .any(|x| e.eq_ignore_ascii_case(x))
+    });
+    if raw && is_8bit {
+        // PNG and JPEG are read as sRGB-encoded colour; raw data (normal maps) keeps the stored values.
         for c in &mut image.data {
             *c = c.map(crate::spectrum::cie::srgb_encode);
         }

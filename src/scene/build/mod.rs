@@ -120,6 +120,17 @@ fn build_scene(
     for child in &root.children {
         let node = &child.node;
         match node.tag {
+            Tag::Shape if node.plugin == "shapegroup" => {
+                if !shapes::is_instanced(root, node) {
+                    warnings.push(Warning {
+                        loc: node.loc.clone(),
+                        message: format!(
+                            "{} is never instanced; it shows nothing",
+                            node.describe()
+                        ),
+                    });
+                }
+            }
             Tag::Shape => shapes::add_shape(&mut b, node, warnings)?,
             // Declared for shapes that attach it with <ref id="…"/>.
             Tag::Emitter if node.plugin == "area" && node.id.is_some() => {
