@@ -16,14 +16,22 @@
 //! width in faces +x.
 //!
 //! Each texel's RGB is uplifted as an emission (Jakob & Hanika 2019 sigmoid times D65, the same
-//! semantics as [`Spectrum::rgb_illuminant`]); a texel stores its sigmoid coefficients and scale.
-//! Texels are looked up nearest (piecewise constant), exactly the density the sampler uses:
-//! the pdf in (u, v) is proportional to luminance × sin θ of the texel's centre row, and the
-//! solid-angle pdf is p(u, v) / (2π² sin θ).
+//! semantics as [`Spectrum::rgb_illuminant`]). Radiance is interpolated bilinearly between texel
+//! centres, as in Mitsuba 3: texel (i, j) sits at u = (i + ½)/W, v = (j + ½)/H; u wraps around,
+//! v is clamped at the poles. The four texels' spectra are blended at the sampled wavelengths
+//! (Mitsuba blends the sigmoid coefficients instead; the two agree for smooth maps).
 //!
-//! Known limits: Mitsuba 3 interpolates bilinearly with texel centres shifted by half a texel, so
-//! renders differ from Mitsuba's at texel scale; `to_world` should be a rotation (scale or shear
-//! would change the density without being accounted for).
+//! Sampling: a piecewise-constant density over the cells between texel centres in u (the grid
+//! shifted by half a texel) and over texel rows in v. A cell's weight is the mean of the
+//! bilinear luminance over it — (L(i) + L(i+1))/2 across, (L(j−1) + 6 L(j) + L(j+1))/8 down,
+//! rows clamped — times sin θ at the row's centre. Every texel that the interpolation reads in
+//! a cell enters its weight with a positive coefficient, so the density is positive wherever
+//! the radiance is: light sampling alone is unbiased. The solid-angle pdf is
+//! p(u, v) / (2π² sin θ). Mitsuba samples the bilinear luminance itself; the two densities
+//! differ only within cells (noise, not the mean).
+//!
+//! Known limits: `to_world` should be a rotation (scale or shear would change the density
+//! without being accounted for).
 
 use super::distribution::Distribution2D;
 use super::{point_at_infinity, LightLiSample, LightSampleContext};
@@ -135,15 +143,22 @@ impl EnvMapLight {
         let mut weights = vec![0.0; width * height];
         let mut integral = 0.0f64;
         let d_phi = 2.0 * std::f64::consts::PI / width as f64;
+        let lum = |x: usize, y: isize| {
+            let y = y.clamp(0, height as isize - 1) as usize;
+            luminance[y * width + x % width] as f64
+        };
         for y in 0..height {
-            let sin_theta = (PI * (y as f32 + 0.5) / height as f32).sin();
+            let sin_theta = (std::f64::consts::PI * (y as f64 + 0.5) / height as f64).sin();
             let t0 = std::f64::consts::PI * y as f64 / height as f64;
             let t1 = std::f64::consts::PI * (y + 1) as f64 / height as f64;
             let solid_angle = d_phi * (t0.cos() - t1.cos());
+            let yi = y as isize;
             for x in 0..width {
-                let l = luminance[y * width + x];
-                weights[y * width + x] = l * sin_theta;
-                integral += l as f64 * solid_angle;
+                // Cell x spans the texel centres x and x + 1 (see the module header).
+                let column = |k: usize| (lum(k, yi - 1) + 6.0 * lum(k, yi) + lum(k, yi + 1)) / 8.0;
+                let mean = 0.5 * (column(x) + column(x + 1));
+                weights[y * width + x] = (mean * sin_theta) as f32;
+                integral += lum(x, yi) * solid_angle;
             }
         }
         EnvMapLight {
@@ -165,20 +180,32 @@ impl EnvMapLight {
         self.radius = r;
     }
 
-    /// The texel holding (u, v) (nearest lookup).
+    /// Half a texel in u: the sampling grid's offset from the texel grid.
     #[inline]
-    fn texel(&self, uv: Vec2) -> usize {
-        let x = ((uv.x * self.width as f32) as usize).min(self.width - 1);
-        let y = ((uv.y * self.height as f32) as usize).min(self.height - 1);
-        y * self.width + x
+    fn half_texel(&self) -> f32 {
+        0.5 / self.width as f32
     }
 
     fn local(&self, dir: Vec3) -> Vec3 {
         self.to_local.vector(dir).normalize_or_zero()
     }
 
+    /// Bilinear interpolation between texel centres (u wraps, v clamps).
     fn radiance_uv(&self, uv: Vec2, wl: &SampledWavelengths) -> SampledSpectrum {
-        self.texels[self.texel(uv)].sample(wl) * self.scale
+        let (w, h) = (self.width as isize, self.height as isize);
+        let x = uv.x * self.width as f32 - 0.5;
+        let y = uv.y * self.height as f32 - 0.5;
+        let (x0, y0) = (x.floor(), y.floor());
+        let (fx, fy) = (x - x0, y - y0);
+        let (x0, y0) = (x0 as isize, y0 as isize);
+        let texel = |i: isize, j: isize| {
+            let i = i.rem_euclid(w) as usize;
+            let j = j.clamp(0, h - 1) as usize;
+            self.texels[j * self.width + i].sample(wl)
+        };
+        let top = texel(x0, y0) * (1.0 - fx) + texel(x0 + 1, y0) * fx;
+        let bottom = texel(x0, y0 + 1) * (1.0 - fx) + texel(x0 + 1, y0 + 1) * fx;
+        (top * (1.0 - fy) + bottom * fy) * self.scale
     }
 
     /// Radiance seen along the escaping direction `dir` (world space).
@@ -197,7 +224,11 @@ impl EnvMapLight {
         if sin_theta.is_nan() || sin_theta <= 0.0 {
             return 0.0;
         }
-        self.dist.pdf(direction_to_uv(d)) / (2.0 * PI * PI * sin_theta)
+        let uv = direction_to_uv(d);
+        let u = (uv.x - self.half_texel())
+            .rem_euclid(1.0)
+            .min(crate::math::ONE_MINUS_EPSILON);
+        self.dist.pdf(Vec2::new(u, uv.y)) / (2.0 * PI * PI * sin_theta)
     }
 
     pub(crate) fn sample_li(
@@ -206,7 +237,8 @@ impl EnvMapLight {
         u: Vec2,
         wl: &SampledWavelengths,
     ) -> Option<LightLiSample> {
-        let (uv, _, _) = self.dist.sample(u);
+        let (cell, _, _) = self.dist.sample(u);
+        let uv = Vec2::new((cell.x + self.half_texel()).rem_euclid(1.0), cell.y);
         let wi = self
             .to_world
             .vector(uv_to_direction(uv))
