@@ -33,6 +33,8 @@ pub mod merge;
 pub mod optics;
 /// Raster plotting for PNG figures: canvas, bitmap font, charts.
 pub mod plot;
+/// Plugins: the scene description they read, their parameter declarations, the registry.
+pub mod plugin;
 /// The render loop over tiles.
 pub mod render;
 /// Sample generators.
@@ -45,3 +47,5 @@ pub mod shape;
 pub mod spectrum;
 /// Textures.
 pub mod texture;
+/// Tools above the renderer: the BSDF inspector behind `ophis bsdf`.
+pub mod tools;

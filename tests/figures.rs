@@ -7,7 +7,7 @@
 //! - the absorption figure (4.5) darkens monotonically with the layer's thickness, each step
 //!   resolved by more than 4 standard errors.
 
-use ophis::bsdf::filmmaterial::FilmIor;
+use ophis::bsdf::film::FilmIor;
 use ophis::gallery::render_file;
 use ophis::image_io::RgbImage;
 use ophis::optics::filmtool::{reflected_rgb, FilmStack};

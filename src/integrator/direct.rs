@@ -107,7 +107,7 @@ pub fn radiance(
     let material = &scene.materials[scene.shape_material[si.shape as usize] as usize];
     let front = si.ng.dot(wo) >= 0.0;
     let tc = TexCoord { uv: si.uv, p: si.p };
-    let (bxdf, two_sided) = material.eval(&tc, wl, front);
+    let (bxdf, two_sided) = material.eval(&tc, wl, front, sampler.vertex_seed());
     let pixel_angle = scene.camera.pixel_angle(scene.height);
     let bsdf = Bsdf {
         frame: material.shading_frame(&si, wo, pixel_angle * si.t),
@@ -134,8 +134,7 @@ pub fn radiance(
             if !(ls.pdf > 0.0) || ls.l.is_black() {
                 continue;
             }
-            let f = bsdf.f(wo, ls.wi, TransportMode::Radiance, sampler.rng())
-                * ls.wi.dot(bsdf.frame.n).abs();
+            let f = bsdf.f(wo, ls.wi, TransportMode::Radiance) * ls.wi.dot(bsdf.frame.n).abs();
             if f.is_black() || scene.occluded(&Ray::spawn_to(si.p, si.ng, ls.p_light)) {
                 continue;
             }
@@ -143,7 +142,7 @@ pub fn radiance(
             let w = if ls.is_delta || m == 0 {
                 1.0
             } else {
-                let bsdf_pdf = bsdf.pdf(wo, ls.wi, TransportMode::Radiance, sampler.rng());
+                let bsdf_pdf = bsdf.pdf(wo, ls.wi, TransportMode::Radiance);
                 power_heuristic(nf * light_pdf, mf * bsdf_pdf)
             };
             l += f * ls.l * (w / (nf * light_pdf));
@@ -153,7 +152,7 @@ pub fn radiance(
     for _ in 0..m {
         let uc = sampler.get_1d();
         let u = sampler.get_2d();
-        let Some(bs) = bsdf.sample_f(wo, uc, u, TransportMode::Radiance, sampler.rng()) else {
+        let Some(bs) = bsdf.sample_f(wo, uc, u, TransportMode::Radiance) else {
             continue;
         };
         let beta = bs.f * (bs.wi.dot(bsdf.frame.n).abs() / bs.pdf);
@@ -161,7 +160,7 @@ pub fn radiance(
             continue;
         }
         let bsdf_pdf = if bs.pdf_is_proportional {
-            bsdf.pdf(wo, bs.wi, TransportMode::Radiance, sampler.rng())
+            bsdf.pdf(wo, bs.wi, TransportMode::Radiance)
         } else {
             bs.pdf
         };

@@ -7,7 +7,7 @@
 //! (R ≡ 1) is exactly white (1, 1, 1) (see [`crate::spectrum::cie`]).
 
 use super::thinfilm::{film_rt, FilmRt};
-use crate::bsdf::filmmaterial::FilmIor;
+use crate::bsdf::film::FilmIor;
 use crate::spectrum::cie::{d65, xyz_bar, xyz_to_linear_srgb, CIE_Y_INTEGRAL};
 use crate::spectrum::ior::dielectric_ior;
 use num_complex::Complex64 as C;

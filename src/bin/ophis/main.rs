@@ -4,6 +4,7 @@ mod bsdf;
 mod check;
 mod gallery;
 mod merge;
+mod plugins;
 mod render;
 mod thinfilm;
 mod thinfilm_plot;
@@ -33,6 +34,8 @@ enum Command {
     Merge(merge::MergeArgs),
     /// Inspect one BSDF of a scene: directional albedo and f·cos with standard errors.
     Bsdf(bsdf::BsdfArgs),
+    /// The plugins ophis reads (BSDFs, textures, …) and their parameters.
+    Plugins(plugins::PluginsArgs),
     /// Render every thesis and CEIG 2023 figure and compose labelled contact sheets
     /// (docs/gallery/*.png).
     Gallery(gallery::GalleryArgs),
@@ -47,6 +50,7 @@ fn main() {
         Command::Merge(args) => merge::run(args),
         Command::Bsdf(args) => bsdf::run(args),
         Command::Gallery(args) => gallery::run(args),
+        Command::Plugins(args) => plugins::run(args),
     };
     if let Err(e) = result {
         eprintln!("error: {e:#}");

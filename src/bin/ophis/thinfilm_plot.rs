@@ -9,8 +9,8 @@ use std::path::Path;
 
 fn describe(st: &FilmStack) -> String {
     let film = match st.film {
-        ophis::bsdf::filmmaterial::FilmIor::Constant(n) => format!("{n}"),
-        ophis::bsdf::filmmaterial::FilmIor::Keratin => "keratin".to_string(),
+        ophis::bsdf::film::FilmIor::Constant(n) => format!("{n}"),
+        ophis::bsdf::film::FilmIor::Keratin => "keratin".to_string(),
     };
     let base = if st.base_k > 0.0 {
         format!("{}+{}i", st.base_n, st.base_k)

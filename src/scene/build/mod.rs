@@ -2,13 +2,10 @@
 //! integrator settings, shapes with their materials and area lights, other emitters, the BVH.
 
 mod emitters;
-mod layered;
 mod materials;
 mod procedural;
-mod scales;
 mod shapes;
-mod thinfilm;
-pub mod values;
+pub use crate::plugin::values;
 
 use super::mitsuba::{self, Node, SceneError, Tag, Warning};
 use super::{IntegratorKind, IntegratorSettings, SamplerSettings, Scene};

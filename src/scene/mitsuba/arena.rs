@@ -9,8 +9,8 @@
 use std::collections::HashMap;
 use std::sync::Arc;
 
-use super::properties::Properties;
 use super::{Child, Location, Node, SceneError, Tag};
+use crate::plugin::Properties;
 
 /// What a child slot points to.
 #[derive(Debug)]

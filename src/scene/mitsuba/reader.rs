@@ -10,9 +10,9 @@ use roxmltree::{Document, ParsingOptions};
 use super::arena::{Arena, Pending, PendingChild, Target};
 use super::element::{Attr, Elem, Source};
 use super::literal;
-use super::properties::{Properties, Value};
-use super::resolver::{read_text, FileResolver};
+use super::resolver::read_text;
 use super::{describe, Location, Node, SceneError, Tag, Warning};
+use crate::plugin::{FileResolver, Properties, Value};
 
 /// Deepest nesting of elements and includes accepted; deeper input is an error, not a crash.
 const MAX_DEPTH: usize = 100;

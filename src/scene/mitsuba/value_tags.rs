@@ -2,11 +2,11 @@
 
 use super::element::{Attr, Elem, Source};
 use super::literal::{self, parse_bool, parse_float, parse_int, parse_rgb, srgb_to_linear};
-use super::properties::{SpectrumValue, Value};
 use super::reader::{Builder, Reader};
 use super::resolver::FileResolver;
 use super::{transform, SceneError};
 use crate::math::{Transform, Vec3};
+use crate::plugin::{SpectrumValue, Value};
 
 impl Reader {
     /// A value tag inside `b`: parsed, checked and added as a parameter.

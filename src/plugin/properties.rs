@@ -4,7 +4,7 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, OnceLock};
 
-use super::resolver::FileResolver;
+use super::files::FileResolver;
 use super::{Location, SceneError};
 use crate::math::{Transform, Vec3};
 
@@ -82,7 +82,7 @@ pub struct Properties {
 }
 
 impl Properties {
-    pub(super) fn new(owner: String, files: Arc<OnceLock<FileResolver>>) -> Properties {
+    pub(crate) fn new(owner: String, files: Arc<OnceLock<FileResolver>>) -> Properties {
         Properties {
             owner,
             entries: Vec::new(),
@@ -91,7 +91,7 @@ impl Properties {
     }
 
     /// Adds a parameter; a second parameter of the same name is an error.
-    pub(super) fn insert(
+    pub(crate) fn insert(
         &mut self,
         name: String,
         original: String,

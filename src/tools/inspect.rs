@@ -5,8 +5,8 @@
 //! Directions follow [`super::testing::direction`]: the incident direction is at polar angle
 //! θi in the plane φ = 0, the outgoing one at (θo, φo); θ < 0 means below the surface.
 
-use super::testing::{direction, Estimate};
-use super::{Material, TransportMode};
+use crate::bsdf::testing::{direction, Estimate};
+use crate::bsdf::{Material, TransportMode};
 use crate::math::Pcg32;
 use crate::scene::mitsuba::{Node, Tag};
 use crate::spectrum::{cie, SampledWavelengths, LAMBDA_MAX, LAMBDA_MIN, N};
@@ -59,7 +59,10 @@ pub enum Quantity {
 }
 
 fn one_sample(m: &Material, q: Quantity, wl: &SampledWavelengths, rng: &mut Pcg32) -> [f32; N] {
-    let (bxdf, two_sided) = m.eval(&TexCoord::default(), wl, true);
+    // A fresh seed per sample: a stochastic BSDF's value is a deterministic function of its
+    // seed and the directions, so repeated pairs need new seeds to average.
+    let seed = (rng.next_u32() as u64) << 32 | rng.next_u32() as u64;
+    let (bxdf, two_sided) = m.eval(&TexCoord::default(), wl, true, seed);
     let flip = |mut w: crate::math::Vec3| {
         if two_sided && w.z < 0.0 {
             w.z = -w.z;
@@ -71,7 +74,7 @@ fn one_sample(m: &Material, q: Quantity, wl: &SampledWavelengths, rng: &mut Pcg3
         Quantity::Albedo { theta_i } => {
             let wo = flip(direction(theta_i, 0.0));
             let (uc, u) = (rng.next_f32(), rng.next_vec2());
-            match bxdf.sample_f(wo, uc, u, mode, rng) {
+            match bxdf.sample_f(wo, uc, u, mode) {
                 Some(bs) if bs.pdf > 0.0 => (bs.f * (bs.wi.z.abs() / bs.pdf)).0,
                 _ => [0.0; N],
             }
@@ -88,7 +91,7 @@ fn one_sample(m: &Material, q: Quantity, wl: &SampledWavelengths, rng: &mut Pcg3
                 crate::math::Vec3::new(wo.x, wo.y, wo.z * s),
                 crate::math::Vec3::new(wi.x, wi.y, wi.z * s),
             );
-            (bxdf.f(wo, wi, mode, rng) * wi.z.abs()).0
+            (bxdf.f(wo, wi, mode) * wi.z.abs()).0
         }
     }
 }

@@ -2,7 +2,7 @@
 //! colour is a reflectance, an unbounded quantity or an emission), indices of refraction, and
 //! checked numbers.
 
-use crate::scene::mitsuba::{Node, SceneError, SpectrumValue, Value};
+use super::{Node, SceneError, SpectrumValue, Value};
 use crate::spectrum::spectra::PiecewiseLinear;
 use crate::spectrum::{ior, Spectrum};
 use std::path::Path;

@@ -1,0 +1,30 @@
+//! `null`: a surface that does not scatter — it only marks a boundary (or carries an
+//! emitter); paths pass through it unchanged and the crossing does not count as a bounce, as
+//! Mitsuba's `null`.
+//!
+//! ## Parameters
+//!
+//! | parameter | type | default | unit | meaning |
+//! |---|---|---|---|---|
+//!
+//! Known limits: none.
+
+use super::Material;
+use crate::plugin::{Args, Info, Plugin, SceneError, Tag};
+
+/// The `null` plugin.
+pub(crate) const PLUGIN: Plugin<Material> = Plugin {
+    info: Info {
+        name: "null",
+        aliases: &[],
+        tag: Tag::Bsdf,
+        summary: "invisible boundary: paths pass through unchanged",
+        params: &[],
+        file: file!(),
+    },
+    load,
+};
+
+fn load(_: &mut Args, _: ()) -> Result<Material, SceneError> {
+    Ok(Material::Null)
+}
