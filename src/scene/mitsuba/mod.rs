@@ -15,7 +15,9 @@
 //! - value tags become [`Value`]s: numbers are parsed strictly, colours decoded, spectra and
 //!   blackbodies parsed, `<transform>` blocks composed into one [`Transform`](crate::math::Transform);
 //! - a scene with `version` < 2.0 has its parameter names turned from camelCase into snake_case
-//!   (`intIOR` → `int_ior`, the original spelling is kept for messages) and `lookAt` into `lookat`.
+//!   (`intIOR` → `int_ior`, the original spelling is kept for messages) and `lookAt` into `lookat`;
+//!   as in Mitsuba 3, a 0.x `diffuse`'s `diffuse_reflectance` becomes `reflectance` and
+//!   `uoffset`/`voffset`/`uscale`/`vscale` become `to_uv`.
 //!
 //! The consumer reads parameters through [`Properties`]' typed getters, which remember what was
 //! read; afterwards [`check_unused`] lists every parameter that nobody asked for.
@@ -41,11 +43,10 @@
 //! Deliberate differences from Mitsuba 3: unknown tags and attributes are warnings (Mitsuba
 //! stops), except inside `<transform>`, where skipping an operation would silently move geometry;
 //! only `<scene>` roots are accepted; numbers beyond
-//! the f32 range are errors; elements may nest at most 100 deep (includes count as a level);
-//! the 0.6 `uoffset`/`uscale` → `to_uv` rewrite is not done (those names stay as written,
-//! snake_cased, and `check_unused` reports them if nobody reads them).
+//! the f32 range are errors; elements may nest at most 100 deep (includes count as a level).
 
 mod arena;
+mod builder;
 mod element;
 mod literal;
 mod reader;

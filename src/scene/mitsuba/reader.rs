@@ -7,105 +7,16 @@ use std::sync::{Arc, OnceLock};
 
 use roxmltree::{Document, ParsingOptions};
 
-use super::arena::{Arena, Pending, PendingChild, Target};
+use super::arena::{Arena, Target};
+pub(super) use super::builder::Builder;
 use super::element::{Attr, Elem, Source};
 use super::literal;
 use super::resolver::read_text;
-use super::{describe, Location, Node, SceneError, Tag, Warning};
-use crate::plugin::{FileResolver, Properties, Value};
+use super::{Location, Node, SceneError, Tag, Warning};
+use crate::plugin::FileResolver;
 
 /// Deepest nesting of elements and includes accepted; deeper input is an error, not a crash.
 const MAX_DEPTH: usize = 100;
-
-/// An object being built.
-pub struct Builder {
-    tag: Tag,
-    plugin: String,
-    id: Option<String>,
-    props: Properties,
-    children: Vec<PendingChild>,
-    child_names: Vec<(String, Location)>,
-    loc: Location,
-}
-
-impl Builder {
-    fn new(
-        tag: Tag,
-        plugin: String,
-        id: Option<String>,
-        loc: Location,
-        files: &Arc<OnceLock<FileResolver>>,
-    ) -> Builder {
-        Builder {
-            props: Properties::new(describe(tag, &plugin, id.as_deref()), files.clone()),
-            tag,
-            plugin,
-            id,
-            children: Vec::new(),
-            child_names: Vec::new(),
-            loc,
-        }
-    }
-
-    fn taken(&self, name: &str) -> Option<&Location> {
-        self.props.location(name).or_else(|| {
-            self.child_names
-                .iter()
-                .find(|(n, _)| n == name)
-                .map(|(_, l)| l)
-        })
-    }
-
-    fn twice(&self, name: &str, first: &Location, loc: &Location) -> SceneError {
-        SceneError::at(
-            loc,
-            format!(
-                "parameter '{name}' of {} is given twice (first at {first})",
-                self.props.owner()
-            ),
-        )
-    }
-
-    pub(super) fn add_prop(
-        &mut self,
-        name: String,
-        orig: String,
-        v: Value,
-        loc: Location,
-    ) -> Result<(), SceneError> {
-        if let Some(first) = self.child_names.iter().find(|(n, _)| *n == name) {
-            return Err(self.twice(&name, &first.1, &loc));
-        }
-        self.props.insert(name, orig, v, loc)
-    }
-
-    fn add_child(
-        &mut self,
-        name: Option<String>,
-        target: Target,
-        loc: Location,
-    ) -> Result<(), SceneError> {
-        if let Some(n) = &name {
-            if let Some(first) = self.taken(n) {
-                return Err(self.twice(n, first, &loc));
-            }
-            self.child_names.push((n.clone(), loc.clone()));
-        }
-        self.children.push(PendingChild { name, target, loc });
-        Ok(())
-    }
-
-    fn finish(self) -> Pending {
-        Pending {
-            tag: self.tag,
-            plugin: self.plugin,
-            id: self.id,
-            props: self.props,
-            children: self.children,
-            loc: self.loc,
-        }
-    }
-}
 
 /// Reader state shared by a scene file and everything it includes.
 pub struct Reader {
@@ -189,10 +100,17 @@ impl Reader {
         let loc = self.scene_root(root, &mut src)?;
         self.stack
             .push(std::fs::canonicalize(file.as_ref()).unwrap_or_else(|_| (*file).clone()));
-        let mut b = Builder::new(Tag::Scene, "scene".into(), None, loc, &self.files);
+        let mut b = Builder::new(
+            Tag::Scene,
+            "scene".into(),
+            None,
+            loc,
+            &self.files,
+            src.upgrade,
+        );
         self.children(root, &src, &mut b, 0)?;
         let _ = self.files.set(self.search.clone());
-        std::mem::take(&mut self.objects).link(b.finish())
+        std::mem::take(&mut self.objects).link(b.finish()?)
     }
 
     fn warn(&mut self, loc: &Location, message: String) {
@@ -353,9 +271,16 @@ impl Reader {
         if id.as_deref() == Some("") || plugin.is_empty() {
             return Err(e.err("found an empty 'type' or 'id'; expected a non-empty one"));
         }
-        let mut cb = Builder::new(tag, plugin, id.clone(), e.loc.clone(), &self.files);
+        let mut cb = Builder::new(
+            tag,
+            plugin,
+            id.clone(),
+            e.loc.clone(),
+            &self.files,
+            src.upgrade,
+        );
         self.children(node, src, &mut cb, depth + 1)?;
-        let index = self.objects.push(cb.finish());
+        let index = self.objects.push(cb.finish()?);
         if let Some(id) = &id {
             self.register(id, index, &e)?;
         }

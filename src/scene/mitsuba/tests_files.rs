@@ -182,3 +182,57 @@ fn warnings_before_an_error_are_kept() {
     assert_eq!(warnings.len(), 1, "{warnings:?}");
     assert!(warnings[0].message.contains("colour"), "{warnings:?}");
 }
+
+#[test]
+fn version_0_files_get_mitsubas_per_object_upgrades() {
+    let v06 = |body: &str| format!("<scene version=\"0.6.0\">\n{body}\n</scene>\n");
+    let (root, w) = load(&v06(
+        r#"<bsdf type="diffuse"><rgb name="diffuseReflectance" value="0.2"/></bsdf>
+<bsdf type="diffuse"><texture type="checkerboard" name="diffuseReflectance"/></bsdf>
+<bsdf type="plastic"><rgb name="diffuseReflectance" value="0.2"/></bsdf>
+<texture type="bitmap"><float name="uscale" value="4"/><float name="vscale" value="2"/>
+  <float name="uoffset" value="0.5"/></texture>"#,
+    ))
+    .unwrap();
+    assert!(w.is_empty(), "{w:?}");
+    let [a, b, c, t] = [0, 1, 2, 3].map(|i| &root.children[i].node);
+    assert!(a.props.contains("reflectance") && !a.props.contains("diffuse_reflectance"));
+    assert_eq!(
+        a.props.original_name("reflectance"),
+        Some("diffuseReflectance")
+    );
+    assert!(b.child("reflectance").is_some());
+    // Only diffuse renames it (plastic has a diffuse_reflectance of its own).
+    assert!(c.props.contains("diffuse_reflectance"));
+    // to_uv = scale(4, 2) · translate(0.5, 0): (0, 0) ↦ (2, 0), (1, 1) ↦ (6, 2).
+    let to_uv = t.props.get_transform_opt("to_uv").unwrap().unwrap();
+    assert!(
+        (to_uv.point(crate::math::Vec3::ZERO) - crate::math::Vec3::new(2.0, 0.0, 0.0)).length()
+            < 1e-6
+    );
+    assert!(
+        (to_uv.point(crate::math::Vec3::new(1.0, 1.0, 0.0))
+            - crate::math::Vec3::new(6.0, 2.0, 0.0))
+        .length()
+            < 1e-6
+    );
+    assert!(!t.props.contains("uscale"));
+    // 3.x files keep the names as written; a zero scale and a second to_uv are errors.
+    let (root, _) = load(&scene(
+        r#"<texture type="bitmap"><float name="uscale" value="4"/></texture>"#,
+    ))
+    .unwrap();
+    assert!(root.children[0].node.props.contains("uscale"));
+    let e = load(&v06(r#"<texture type="bitmap">
+<float name="uscale" value="0"/></texture>"#))
+    .unwrap_err()
+    .to_string();
+    assert!(e.starts_with("test.xml:3:") && e.contains("zero"), "{e}");
+    let e = load(&v06(
+        r#"<texture type="bitmap"><float name="uscale" value="2"/>
+<transform name="toUV"><scale value="2"/></transform></texture>"#,
+    ))
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("'to_uv'") && e.contains("twice"), "{e}");
+}
