@@ -136,11 +136,17 @@ def main():
         mm, mse, mb, mbse = stats(m)
         rel = 100 * (om - mm) / np.maximum(np.abs(mm), 1e-12)
         z = z_scores(om, ose, mm, mse)
-        zb = np.abs(z_scores(ob, obse, mb, mbse)).max()
+        zbs = np.abs(z_scores(ob, obse, mb, mbse))
+        zb = zbs.max()
+        by, bx, bc = np.unravel_index(np.argmax(zbs), zbs.shape)
         worst = max(worst, np.abs(z).max(), zb)
         fmt = lambda v, p: " ".join(f"{x:{p}}" for x in v)
         print(f"{name:24} {fmt(om, '8.4f'):>26} {fmt(mm, '8.4f'):>26} {fmt(rel, '+6.1f'):>20} "
               f"{fmt(z, '+5.1f'):>17} {zb:13.1f}")
+        if zb > 4:
+            print(f"  worst block: column {bx}, row {by} (of 4 x 4), channel {'RGB'[bc]}: "
+                  f"ophis {ob[by, bx, bc]:.4f}, Mitsuba {mb[by, bx, bc]:.4f} "
+                  f"({100 * (ob[by, bx, bc] / mb[by, bx, bc] - 1):+.1f} %)")
         if scene == noise_scene:
             noise_report(o, m)
     print(f"largest |z|: {worst:.1f} (|z| > 4 is a difference beyond both renderers' noise)")

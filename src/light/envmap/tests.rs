@@ -23,11 +23,11 @@ fn patchy(width: usize, height: usize) -> Vec<f32> {
     v
 }
 
-/// The map's radiance at (u, v), interpolated bilinearly between texel centres (u wraps, v
-/// clamps), written independently of the light's own lookup.
+/// The map's radiance at (u, v), interpolated bilinearly between texel centres ((i + ½)/W in
+/// u, wrapping; j/(H − 1) in v), written independently of the light's own lookup.
 fn bilinear(width: usize, height: usize, values: &[f32], u: f64, v: f64) -> f64 {
     let x = u * width as f64 - 0.5;
-    let y = v * height as f64 - 0.5;
+    let y = v * (height - 1) as f64;
     let (x0, y0) = (x.floor(), y.floor());
     let (fx, fy) = (x - x0, y - y0);
     let at = |i: f64, j: f64| {
@@ -75,51 +75,38 @@ fn lat_long_mapping_round_trips_and_follows_mitsuba() {
         let d = square_to_uniform_sphere(rng.next_vec2());
         assert!((uv_to_direction(direction_to_uv(d)) - d).length() < 1e-4);
     }
-    // Column centres of a 4-wide map: φ = 45°, 135°, 225°, 315° from −z towards +x.
-    let values = [1.0, 2.0, 3.0, 4.0, 11.0, 12.0, 13.0, 14.0];
-    let light = map(4, 2, &values, Transform::IDENTITY);
-    // Texel centres: the top row at θ = 45°, the bottom one at 135°.
-    let (s, c) = (0.5f32, 0.5f32);
+    // Texel centres of a 4 × 3 map: columns at φ = 45°, 135°, 225°, 315° from −z towards +x,
+    // rows on the poles and the equator (Mitsuba 3's convention).
+    let values = [
+        1.0, 2.0, 3.0, 4.0, 11.0, 12.0, 13.0, 14.0, 21.0, 22.0, 23.0, 24.0,
+    ];
+    let light = map(4, 3, &values, Transform::IDENTITY);
     let h = 0.5f32.sqrt();
     let dirs = [
-        Vec3::new(s, h, -c),
-        Vec3::new(s, h, c),
-        Vec3::new(-s, h, c),
-        Vec3::new(-s, h, -c),
+        Vec3::new(h, 0.0, -h),
+        Vec3::new(h, 0.0, h),
+        Vec3::new(-h, 0.0, h),
+        Vec3::new(-h, 0.0, -h),
     ];
     let close = |a: f32, b: f32| (a - b).abs() <= 1e-4 * b;
+    let le = |d: Vec3| light.le(d, &wl())[0];
     for (i, d) in dirs.iter().enumerate() {
         assert!(
-            close(light.le(*d, &wl())[0], values[i]),
-            "top row, column {i}"
-        );
-        let below = Vec3::new(d.x, -d.y, d.z);
-        assert!(
-            close(light.le(below, &wl())[0], values[4 + i]),
-            "bottom row, column {i}"
+            close(le(*d), values[4 + i]),
+            "equator, column {i}: {}",
+            le(*d)
         );
     }
-    // Halfway between two centres of the top row: their mean; above the top centres (towards
-    // the pole) the row is held.
-    let mid = uv_to_direction(Vec2::new(0.25, 0.25));
-    assert!(
-        close(light.le(mid, &wl())[0], 1.5),
-        "{}",
-        light.le(mid, &wl())[0]
-    );
-    let pole = uv_to_direction(Vec2::new(0.125, 0.05));
-    assert!(close(light.le(pole, &wl())[0], 1.0));
-    // Across the seam u = 0: the last and first columns blend.
-    let seam = uv_to_direction(Vec2::new(0.0, 0.75));
-    assert!(
-        close(light.le(seam, &wl())[0], 12.5),
-        "{}",
-        light.le(seam, &wl())[0]
-    );
+    // Halfway between two column centres on the equator: their mean; across the seam u = 0:
+    // the last and first columns; halfway to a pole: the mean of the two rows.
+    assert!(close(le(uv_to_direction(Vec2::new(0.25, 0.5))), 11.5));
+    assert!(close(le(uv_to_direction(Vec2::new(0.0, 0.5))), 12.5));
+    assert!(close(le(uv_to_direction(Vec2::new(0.125, 0.25))), 6.0));
+    assert!(close(le(uv_to_direction(Vec2::new(0.375, 0.75))), 17.0));
     assert_eq!(direction_to_uv(Vec3::Y).y, 0.0);
     assert_eq!(direction_to_uv(-Vec3::Y).y, 1.0);
     // `to_world` rotates the map: the world direction R d sees what d saw before.
-    let rotated = map(4, 2, &values, rotation());
+    let rotated = map(4, 3, &values, rotation());
     for d in dirs {
         let (a, b) = (
             rotated.le(rotation().vector(d), &wl())[0],
@@ -251,11 +238,52 @@ fn rgb_texels_are_uplifted_as_illuminants() {
     let mut img = RgbImage::new(4, 2);
     img.data[1] = [0.8, 0.4, 0.1];
     let light = EnvMapLight::new(img, 2.0, Transform::IDENTITY).unwrap();
-    // The centre of texel 1 (top row, second column).
-    let d = uv_to_direction(Vec2::new(0.375, 0.25));
-    let want = Spectrum::rgb_illuminant([0.8, 0.4, 0.1]).sample(&wl()) * 2.0;
+    // Texel 1 (top row, second column) lies on the pole; halfway to the (black) bottom row
+    // under column 1, half of its spectrum times half of its scale: a quarter (Mitsuba 3.9
+    // gives the same, measured through its Python API).
+    let d = uv_to_direction(Vec2::new(0.375, 0.5));
+    let black = match Spectrum::rgb_illuminant([0.0; 3]) {
+        Spectrum::RgbIlluminant { poly, .. } => poly,
+        other => panic!("{other:?}"),
+    };
+    let (scale, poly) = match Spectrum::rgb_illuminant([0.8, 0.4, 0.1]) {
+        Spectrum::RgbIlluminant { scale, poly } => (scale, poly),
+        other => panic!("{other:?}"),
+    };
+    let want = crate::spectrum::SampledSpectrum::from_fn(|k| {
+        let l = wl().lambda[k];
+        0.5 * (poly.eval(l) + black.eval(l)) * 0.5 * scale * 2.0 * crate::spectrum::cie::d65(l)
+    });
     let got = light.le(d, &wl());
     for i in 0..4 {
         assert!((got[i] - want[i]).abs() <= 1e-5 * want[i].abs().max(1e-3));
+    }
+}
+
+#[test]
+fn spectra_and_scales_are_blended_separately_as_in_mitsuba() {
+    // Two rows of different hue and brightness: halfway, the blend of the normalised spectra
+    // times the blend of the scales.
+    let (blue, warm) = ([0.1f32, 0.2, 0.6], [0.5f32, 0.3, 0.2]);
+    let mut img = RgbImage::new(4, 3);
+    for x in 0..4 {
+        img.data[x] = blue;
+        img.data[4 + x] = blue;
+        img.data[8 + x] = warm;
+    }
+    let light = EnvMapLight::new(img, 1.0, Transform::IDENTITY).unwrap();
+    let got = light.le(uv_to_direction(Vec2::new(0.3, 0.75)), &wl());
+    let parts = |c: [f32; 3]| match Spectrum::rgb_illuminant(c) {
+        Spectrum::RgbIlluminant { scale, poly } => (scale, poly),
+        other => panic!("{other:?}"),
+    };
+    let ((fa, pa), (fb, pb)) = (parts(blue), parts(warm));
+    for (k, &l) in wl().lambda.iter().enumerate() {
+        let want = 0.5 * (pa.eval(l) + pb.eval(l)) * 0.5 * (fa + fb) * crate::spectrum::cie::d65(l);
+        assert!(
+            (got[k] - want).abs() <= 1e-5 * want,
+            "{l}: {} vs {want}",
+            got[k]
+        );
     }
 }
