@@ -309,3 +309,23 @@ fn cylinder_parameters_are_checked() {
     let e = err("<shape type=\"cylinder\"><point name=\"p0\" value=\"1, 1, 1\"/><point name=\"p1\" value=\"1, 1, 1\"/></shape>");
     assert!(e.contains("cylinder"), "{e}");
 }
+
+#[test]
+fn an_emitter_without_a_bsdf_is_black_as_in_mitsuba() {
+    use ophis::bsdf::Material;
+    use ophis::spectrum::Spectrum;
+    use ophis::texture::SpectrumTexture;
+    let (s, _) = load_scene_str(
+        &xml("<shape type=\"sphere\"><emitter type=\"area\"/></shape>\n<shape type=\"cube\"/>"),
+        Path::new("h.xml"),
+        &LoadOptions::default(),
+    )
+    .unwrap();
+    let reflectance = |i: usize| match &s.materials[s.shape_material[i] as usize] {
+        Material::Diffuse {
+            reflectance: SpectrumTexture::Constant(Spectrum::Constant(v)),
+        } => *v,
+        other => panic!("{other:?}"),
+    };
+    assert_eq!((reflectance(0), reflectance(1)), (0.0, 0.5));
+}

@@ -104,6 +104,8 @@ pub(crate) struct Builder {
     pub material_ids: HashMap<*const Node, u32>,
     pub lights: Vec<Light>,
     pub default_material: Option<u32>,
+    /// The black diffuse BSDF of emitters declared without a BSDF (shared).
+    pub black_material: Option<u32>,
 }
 
 fn build_scene(

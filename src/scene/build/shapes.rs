@@ -1,5 +1,6 @@
 //! Shapes: Mitsuba's `sphere`, `disk`, `rectangle`, `cube`, `cylinder`, `obj`, `ply`,
-//! `serialized`, each with its BSDF (nested or `<ref>`) and optional area emitter; and
+//! `serialized`, each with its BSDF (nested or `<ref>`; an emitter without one is black, and
+//! any other shape diffuse 0.5, as in Mitsuba 3) and optional area emitter; and
 //! `shapegroup` / `instance`, flattened at load: every instance adds a copy of the group's shapes
 //! moved by the instance's `to_world` (materials are shared; memory grows with the copies).
 //! As in Mitsuba, a group may not hold instances or groups.
@@ -7,9 +8,12 @@
 use super::emitters::area_light;
 use super::materials::material_for;
 use super::Builder;
+use crate::bsdf::Material;
 use crate::math::{Transform, Vec3};
 use crate::scene::mitsuba::{Node, SceneError, Tag, Warning};
 use crate::shape::{Cylinder, LoadError, MeshError, MeshOptions, Shape, Sphere, TriangleMesh};
+use crate::spectrum::Spectrum;
+use crate::texture::SpectrumTexture;
 use std::sync::Arc;
 
 pub(crate) fn add_shape(
@@ -223,9 +227,18 @@ fn add_shape_at(
             }),
         }
     }
-    let material = match bsdf_node {
-        Some(n) => material_for(b, n, warnings)?,
-        None => b.default_material(),
+    let material = match (bsdf_node, emitter_node) {
+        (Some(n), _) => material_for(b, n, warnings)?,
+        // Mitsuba 3 gives an emitter without a BSDF a black one (shape.cpp): lights do not
+        // reflect other lights.
+        (None, Some(_)) => *b.black_material.get_or_insert_with(|| {
+            b.materials
+                .push(Material::diffuse(SpectrumTexture::Constant(
+                    Spectrum::Constant(0.0),
+                )));
+            b.materials.len() as u32 - 1
+        }),
+        (None, None) => b.default_material(),
     };
     let index = b.shapes.len() as u32;
     let light = match emitter_node {
