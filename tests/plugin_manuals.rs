@@ -256,8 +256,8 @@ fn misspelt_plugins_are_errors_with_suggestions() {
             "<scene version=\"3.0.0\">\n<shape type=\"sphere\">\n{body}\n</shape>\n</scene>"
         );
         let e = ophis::scene::build::load_scene_str(&xml, Path::new("t.xml"), &Default::default())
-            .err()
-            .expect("an error")
+            .map(|_| ())
+            .expect_err("an error")
             .to_string();
         assert!(e.starts_with("t.xml:3:") && e.contains(want), "{e}");
     }

@@ -126,10 +126,18 @@ def main():
     print(f"{'scene':24} {'ophis mean RGB':>26} {'Mitsuba mean RGB':>26} "
           f"{'rel. diff %':>20} {'z':>17} {'max|z| blocks':>13}")
     worst = 0.0
+    failed = 0
     for scene in scenes:
         name = os.path.basename(scene)
         with tempfile.TemporaryDirectory() as tmp:
-            o = [render_ophis(args.ophis, scene, args.spp, s, tmp) for s in range(args.seeds)]
+            try:
+                o = [render_ophis(args.ophis, scene, args.spp, s, tmp) for s in range(args.seeds)]
+            except RuntimeError as e:
+                # The first error line says where and why it does not load.
+                msg = next((l for l in str(e).splitlines() if l.startswith("error")), str(e))
+                print(f"{name:24} ophis does not load it: {msg.strip()[:150]}")
+                failed += 1
+                continue
         m_scene = mi.load_file(scene)
         m = [render_mitsuba(m_scene, args.spp, s) for s in range(args.seeds)]
         om, ose, ob, obse = stats(o)
@@ -149,7 +157,8 @@ def main():
                   f"({100 * (ob[by, bx, bc] / mb[by, bx, bc] - 1):+.1f} %)")
         if scene == noise_scene:
             noise_report(o, m)
-    print(f"largest |z|: {worst:.1f} (|z| > 4 is a difference beyond both renderers' noise)")
+    print(f"largest |z|: {worst:.1f} (|z| > 4 is a difference beyond both renderers' noise); "
+          f"{failed} of {len(scenes)} scenes did not load in ophis")
 
 
 if __name__ == "__main__":

@@ -2,6 +2,7 @@
 //! render settings.
 
 pub mod build;
+pub mod builtin;
 pub mod mitsuba;
 
 use crate::accel::{Accel, Bvh};

@@ -161,15 +161,6 @@ impl FloatTexture {
         }
     }
 
-    /// Value seen through a footprint `footprint` UV units wide along u and v (detail finer
-    /// than that fades).
-    pub fn eval_filtered(&self, tc: &TexCoord, footprint: Vec2) -> f32 {
-        match self {
-            FloatTexture::Scales(s) => s.height(tc.uv, s.cells_across(footprint)),
-            _ => self.eval(tc),
-        }
-    }
-
     /// Gradient with respect to (u, v), for bump mapping. Piecewise-constant textures
     /// (checkerboard, per-scale values) have none.
     pub fn gradient(&self, tc: &TexCoord, footprint: Vec2) -> Vec2 {

@@ -127,11 +127,12 @@ pub fn check_unused(root: &Node) -> Vec<Warning> {
             } else {
                 String::new()
             };
+            // A declared parameter that this configuration does not read gets no hint.
             let hint = match info {
-                Some(i) => {
+                Some(i) if i.param(&name).is_none() => {
                     crate::plugin::did_you_mean(&name, i.all_params().flat_map(|p| p.names()))
                 }
-                None => String::new(),
+                _ => String::new(),
             };
             out.push(Warning {
                 loc,

@@ -7,6 +7,20 @@
 //! separated by commas (`64*920` for a finished 1280×720 render; an interrupted render has
 //! tiles one pass ahead of others). The weighted mean of means, each weighted by its pixel's
 //! sample count, is exactly the mean over all samples (up to float rounding).
+//!
+//! That holds only for independent renders of one scene, which a render farm can get wrong:
+//! two tasks given the same seed take the very same samples (merging them would claim twice the
+//! samples with no new information), and a part rendered from another scene, or with other
+//! `-D` values, at the same resolution would blend silently. So [`merge`] refuses inputs whose
+//! seeds overlap (`ophis.seed`, a comma-separated list in merged files) and inputs whose
+//! `ophis.scene_hash` differ (see [`identity`]), naming the files. Files written before these
+//! keys existed merge with a warning that the check could not be made.
+
+mod identity;
+#[cfg(test)]
+mod tests;
+
+pub use identity::{render_metadata, SceneIdentity};
 
 use crate::film::Film;
 use crate::image_io::RgbImage;
@@ -18,8 +32,12 @@ pub const KEY_SAMPLES: &str = "ophis.samples";
 pub const KEY_SPP: &str = "ophis.spp";
 /// Metadata key of the per-tile samples per pixel.
 pub const KEY_TILE_SPP: &str = "ophis.tile_spp";
-/// Metadata key of the seed.
+/// Metadata key of the seed (a comma-separated list of seeds in a merged file).
 pub const KEY_SEED: &str = "ophis.seed";
+/// Metadata key of the readable scene name (file name and `-D` values).
+pub const KEY_SCENE: &str = "ophis.scene";
+/// Metadata key of the scene hash ([`SceneIdentity::hash_hex`]).
+pub const KEY_SCENE_HASH: &str = "ophis.scene_hash";
 
 /// Run-length encodes a list of per-tile counts.
 pub fn encode_tile_spp(counts: &[u64]) -> String {
@@ -118,20 +136,112 @@ fn pixel_counts(inp: &MergeInput) -> Result<Vec<u64>, String> {
     Ok(vec![total / n; w * h])
 }
 
-/// Merges renders weighted per pixel by their sample counts. Returns the image and its
-/// metadata (summed counts, the list of seeds), ready to merge again.
-pub fn merge(inputs: &[MergeInput]) -> Result<(RgbImage, Vec<(String, String)>), String> {
+/// A merged image, its header (summed counts, the seeds, the scene), and what could not be
+/// checked.
+#[derive(Debug)]
+pub struct Merged {
+    pub image: RgbImage,
+    pub metadata: Vec<(String, String)>,
+    /// Inputs whose seed or scene could not be checked (files from before those keys existed).
+    pub warnings: Vec<String>,
+}
+
+/// The seeds an input holds samples of: `ophis.seed` is one seed, or a list in merged files.
+fn seeds_of(inp: &MergeInput) -> Result<Option<Vec<u64>>, String> {
+    let Some(s) = meta(&inp.metadata, KEY_SEED) else {
+        return Ok(None);
+    };
+    s.split(',')
+        .map(|t| t.trim().parse::<u64>())
+        .collect::<Result<Vec<_>, _>>()
+        .map(Some)
+        .map_err(|_| {
+            format!(
+                "{}: {KEY_SEED} is '{s}', not a seed or comma-separated seeds",
+                inp.name
+            )
+        })
+}
+
+/// "snake.xml -Dthickness=300 (scene hash 0123…)" for messages.
+fn scene_of(inp: &MergeInput) -> String {
+    format!(
+        "{} (scene hash {})",
+        meta(&inp.metadata, KEY_SCENE).unwrap_or("an unnamed scene"),
+        meta(&inp.metadata, KEY_SCENE_HASH).unwrap_or("?")
+    )
+}
+
+/// Merges renders weighted per pixel by their sample counts. Refuses inputs of different
+/// resolutions, of different scenes, or whose seeds overlap, naming the files. The result's
+/// metadata carries the summed counts, every seed and the scene, ready to merge again.
+pub fn merge(inputs: &[MergeInput]) -> Result<Merged, String> {
     let first = inputs.first().ok_or("nothing to merge")?;
     let (w, h) = (first.image.width, first.image.height);
     let mut sum = vec![[0.0f64; 3]; w * h];
     let mut count = vec![0u64; w * h];
-    let mut seeds = Vec::new();
+    // (seed, the input that holds it)
+    let mut seen: Vec<(u64, &str)> = Vec::new();
+    let mut warnings = Vec::new();
+    // The output claims a seed list or a scene only when every input had one.
+    let (mut all_seeded, mut all_hashed) = (true, true);
+    let hashed = inputs
+        .iter()
+        .find(|i| meta(&i.metadata, KEY_SCENE_HASH).is_some());
     for inp in inputs {
         if (inp.image.width, inp.image.height) != (w, h) {
             return Err(format!(
                 "{} is {} × {} but {} is {w} × {h}: only renders of the same resolution merge",
                 inp.name, inp.image.width, inp.image.height, first.name
             ));
+        }
+        match (meta(&inp.metadata, KEY_SCENE_HASH), hashed) {
+            (Some(a), Some(f)) if Some(a) != meta(&f.metadata, KEY_SCENE_HASH) => {
+                return Err(format!(
+                    "{} renders {} but {} renders {}: only renders of the same scene, with the \
+                     same -D values, merge",
+                    inp.name,
+                    scene_of(inp),
+                    f.name,
+                    scene_of(f)
+                ));
+            }
+            (Some(_), _) => {}
+            (None, _) => {
+                all_hashed = false;
+                warnings.push(format!(
+                    "{} has no {KEY_SCENE_HASH} (written by an older ophis): cannot check that it \
+                 renders the same scene",
+                    inp.name
+                ));
+            }
+        }
+        match seeds_of(inp)? {
+            Some(seeds) => {
+                for s in seeds {
+                    if let Some((_, other)) = seen.iter().find(|(t, _)| *t == s) {
+                        let (a, b) = (other, &inp.name);
+                        return Err(if a == b {
+                            format!("{b} lists seed {s} twice in {KEY_SEED}")
+                        } else {
+                            format!(
+                                "{a} and {b} both hold samples of seed {s}: renders with the \
+                                 same seed take the same samples, so merging them would count \
+                                 each sample twice; render each part with its own --seed"
+                            )
+                        });
+                    }
+                    seen.push((s, &inp.name));
+                }
+            }
+            None => {
+                all_seeded = false;
+                warnings.push(format!(
+                    "{} has no {KEY_SEED}: cannot check that its samples are independent of \
+                     the others'",
+                    inp.name
+                ));
+            }
         }
         let c = pixel_counts(inp)?;
         for (i, (s, px)) in sum.iter_mut().zip(&inp.image.data).enumerate() {
@@ -140,7 +250,6 @@ pub fn merge(inputs: &[MergeInput]) -> Result<(RgbImage, Vec<(String, String)>),
             }
             count[i] += c[i];
         }
-        seeds.push(meta(&inp.metadata, KEY_SEED).unwrap_or("?").to_string());
     }
     let data = sum
         .iter()
@@ -158,7 +267,8 @@ pub fn merge(inputs: &[MergeInput]) -> Result<(RgbImage, Vec<(String, String)>),
         .flat_map(|ty| (0..w.div_ceil(t)).map(move |tx| (tx, ty)))
         .map(|(tx, ty)| count[ty * t * w + tx * t])
         .collect();
-    let meta = vec![
+    let seeds: Vec<String> = seen.iter().map(|(s, _)| s.to_string()).collect();
+    let mut metadata = vec![
         (
             KEY_SPP.to_string(),
             tiles.iter().min().unwrap_or(&0).to_string(),
@@ -168,76 +278,24 @@ pub fn merge(inputs: &[MergeInput]) -> Result<(RgbImage, Vec<(String, String)>),
             count.iter().sum::<u64>().to_string(),
         ),
         (KEY_TILE_SPP.to_string(), encode_tile_spp(&tiles)),
-        (KEY_SEED.to_string(), seeds.join(",")),
     ];
-    Ok((
-        RgbImage {
+    if all_seeded {
+        metadata.push((KEY_SEED.to_string(), seeds.join(",")));
+    }
+    if let (true, Some(f)) = (all_hashed, hashed) {
+        for key in [KEY_SCENE, KEY_SCENE_HASH] {
+            if let Some(v) = meta(&f.metadata, key) {
+                metadata.push((key.to_string(), v.to_string()));
+            }
+        }
+    }
+    Ok(Merged {
+        image: RgbImage {
             width: w,
             height: h,
             data,
         },
-        meta,
-    ))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn tile_counts_round_trip() {
-        let counts = [4, 4, 4, 2, 2, 4];
-        let s = encode_tile_spp(&counts);
-        assert_eq!(s, "4*3,2*2,4*1");
-        // 70 × 40 pixels = 3 × 2 tiles.
-        let px = decode_tile_spp(&s, 70, 40).unwrap();
-        assert_eq!(px[0], 4);
-        assert_eq!(px[69], 4);
-        assert_eq!(px[39 * 70], 2);
-        assert_eq!(px[39 * 70 + 69], 4);
-        for bad in ["", "4", "4*7", "x*1", "4*3,2*2", "4*3,2*2,4*1,1*1"] {
-            assert!(decode_tile_spp(bad, 70, 40).is_err(), "{bad:?}");
-        }
-    }
-
-    #[test]
-    fn merge_weights_by_counts_and_refuses_mismatches() {
-        let img = |v: f32, w| RgbImage {
-            width: w,
-            height: 1,
-            data: vec![[v; 3]; w],
-        };
-        let a = MergeInput {
-            name: "a".into(),
-            image: img(1.0, 2),
-            metadata: vec![(KEY_SAMPLES.into(), "2".into())],
-        };
-        let b = MergeInput {
-            name: "b".into(),
-            image: img(4.0, 2),
-            metadata: vec![(KEY_TILE_SPP.into(), "3*1".into())],
-        };
-        let (m, meta) = merge(&[a, b]).unwrap();
-        assert_eq!(m.data[0], [(1.0 + 12.0) / 4.0; 3]);
-        assert!(meta.contains(&(KEY_SAMPLES.into(), "8".into())));
-        let c = MergeInput {
-            name: "c".into(),
-            image: img(1.0, 3),
-            metadata: vec![(KEY_SAMPLES.into(), "3".into())],
-        };
-        let d = MergeInput {
-            name: "d".into(),
-            image: img(1.0, 2),
-            metadata: vec![],
-        };
-        let e = merge(&[d]).unwrap_err();
-        assert!(e.contains("d: no 'ophis.samples'"), "{e}");
-        let a2 = MergeInput {
-            name: "a".into(),
-            image: img(1.0, 2),
-            metadata: vec![(KEY_SAMPLES.into(), "2".into())],
-        };
-        let e = merge(&[a2, c]).unwrap_err();
-        assert!(e.contains("same resolution"), "{e}");
-    }
+        metadata,
+        warnings,
+    })
 }

@@ -1,9 +1,11 @@
-//! `ophis gallery`: render every thesis and paper figure and compose labelled contact sheets.
-//! The figures and the rendering live in `ophis::gallery`.
+//! `ophis gallery`: render every thesis and paper figure and compose labelled contact sheets
+//! (the figures and the composition are in `sheets.rs`).
+
+mod sheets;
 
 use anyhow::{bail, Result};
 use clap::Parser;
-use ophis::gallery::{default_scenes_dir, make_gallery, sheets, Quality};
+use sheets::{default_scenes_dir, make_gallery, sheets, Quality};
 use std::path::PathBuf;
 
 /// Arguments of `ophis gallery`.

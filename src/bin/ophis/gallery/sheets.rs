@@ -1,23 +1,17 @@
 //! The figures of the thesis and the CEIG 2023 paper as a gallery: which scenes, with which
 //! `-D` parameters, in which grid; rendering them and composing labelled contact sheets
-//! (`ophis gallery`). Also the built-in Xenopeltis scene that `ophis render` renders without a
-//! scene argument.
+//! (`ophis gallery`).
 //!
 //! A [`Sheet`] is a grid: each row and each column may name a scene file (relative to the
 //! `scenes/` folder) and `-D` values; a cell renders the row's scene (else the column's, else
 //! the sheet's) with the sheet's, the column's and then the row's defines (later ones win).
 //! Every cell is rendered with the same seed, so a sheet is reproducible.
 
-use crate::image_io::{ImageError, RgbImage};
-use crate::plot::contact_sheet;
-use crate::render::{render, NoProgress, RenderOptions};
-use crate::scene::build::{load_scene, LoadOptions};
-use crate::scene::mitsuba::SceneError;
+use ophis::image_io::ImageError;
+use ophis::plot::contact_sheet;
+use ophis::scene::mitsuba::SceneError;
+use ophis::tools::preview::render_file;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::AtomicBool;
-
-/// The flagship scene (`scenes/xenopeltis.xml`), built into the binary. It needs no other file.
-pub const XENOPELTIS_XML: &str = include_str!("../scenes/xenopeltis.xml");
 
 /// What can go wrong while making a gallery.
 #[derive(Debug, thiserror::Error)]
@@ -246,50 +240,13 @@ pub fn default_scenes_dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes")
 }
 
-/// Renders a scene file with `-D` values at `res` × `res` pixels, `spp` samples and seed 0.
-/// Warnings are returned beside the image.
-pub fn render_file(
-    path: &Path,
-    defines: &[(String, String)],
-    resolution: (u32, u32),
-    spp: u32,
-) -> Result<(RgbImage, Vec<String>), GalleryError> {
-    let opts = LoadOptions {
-        defines: defines.to_vec(),
-        spp: Some(spp),
-        seed: Some(0),
-        resolution: Some(resolution),
-    };
-    let (scene, warnings) = load_scene(path, &opts)?;
-    let mut film = crate::film::Film::new(scene.width, scene.height);
-    let ropts = RenderOptions {
-        spp: scene.sampler.spp,
-        time_limit: None,
-        strategy: crate::integrator::PathStrategy::Mis,
-    };
-    render(
-        &scene,
-        &mut film,
-        0,
-        &ropts,
-        &AtomicBool::new(false),
-        &NoProgress,
-    );
-    let image = RgbImage {
-        width: film.width as usize,
-        height: film.height as usize,
-        data: film.to_linear_srgb(),
-    };
-    Ok((image, warnings.iter().map(|w| w.to_string()).collect()))
-}
-
 /// Renders every cell of `sheet` and composes it; `log` receives one line per cell.
 pub fn render_sheet(
     sheet: &Sheet,
     scenes: &Path,
     q: Quality,
     log: &mut dyn FnMut(&str),
-) -> Result<crate::plot::Canvas, GalleryError> {
+) -> Result<ophis::plot::Canvas, GalleryError> {
     let n = sheet.rows.len() * sheet.cols.len();
     let mut cells = Vec::with_capacity(sheet.rows.len());
     for r in 0..sheet.rows.len() {
