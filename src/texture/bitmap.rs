@@ -32,7 +32,7 @@ pub(crate) const PLUGIN: Plugin<Texture, Want> = Plugin {
         name: "bitmap",
         aliases: &[],
         tag: Tag::Texture,
-        summary: "an image: EXR, Radiance HDR, PNG or JPEG",
+        summary: "an image: EXR, Radiance HDR or PNG",
         params: &[&[
             Param::new("filename", Ty::String, DefaultValue::Required)
                 .doc("the image (PNG and JPEG are sRGB-decoded)"),
