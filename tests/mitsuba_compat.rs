@@ -329,3 +329,61 @@ fn an_emitter_without_a_bsdf_is_black_as_in_mitsuba() {
     };
     assert_eq!((reflectance(0), reflectance(1)), (0.0, 0.5));
 }
+
+/// Runs the `ophis` binary; returns (exit code, stdout, stderr).
+fn ophis(args: &[&str]) -> (i32, String, String) {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_ophis"))
+        .args(args)
+        .output()
+        .unwrap();
+    let s = |b: &[u8]| String::from_utf8_lossy(b).into_owned();
+    (
+        out.status.code().unwrap_or(-1),
+        s(&out.stdout),
+        s(&out.stderr),
+    )
+}
+
+#[test]
+fn check_prints_every_warning_and_renders_nothing() {
+    let scene = data("instances_v04.xml");
+    let (code, out, err) = ophis(&["check", scene.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        out.contains("loads: 10 shapes") && out.contains("1 warning"),
+        "{out}"
+    );
+    assert!(
+        err.contains("instances_v04.xml:") && err.contains("zero area"),
+        "{err}"
+    );
+    let (code, _, err) = ophis(&["check", "--strict", scene.to_str().unwrap()]);
+    assert_eq!(code, 1, "{err}");
+}
+
+#[test]
+fn warnings_leading_up_to_an_error_are_printed_before_it() {
+    let dir = std::env::temp_dir().join(format!("ophis-warn-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let p = dir.join("bad.xml");
+    // A misspelt attribute (a warning), then an unknown id (the error).
+    std::fs::write(
+        &p,
+        "<scene version=\"3.0.0\">\n<shape type=\"sphere\" colour=\"red\"/>\n<shape type=\"sphere\"><ref id=\"nowhere\"/></shape>\n</scene>\n",
+    )
+    .unwrap();
+    for cmd in ["check", "render"] {
+        let out = dir.join("out.exr");
+        let (code, _, err) = ophis(
+            &[cmd, p.to_str().unwrap(), "-o", out.to_str().unwrap()]
+                [..if cmd == "check" { 2 } else { 4 }],
+        );
+        assert_eq!(code, 1, "{cmd}: {err}");
+        let warn = err.find("colour").unwrap_or_else(|| panic!("{cmd}: {err}"));
+        let error = err
+            .find("unknown id 'nowhere'")
+            .unwrap_or_else(|| panic!("{cmd}: {err}"));
+        assert!(warn < error, "{cmd}: {err}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
