@@ -55,6 +55,8 @@ pub enum Interface {
     Conductor(Option<ConductorIor>),
     /// A thin film over a dielectric or a metal.
     Film(Box<FilmSpec>),
+    /// An interference stack over a dielectric or a metal.
+    Stack(Box<super::filmstack::StackSpec>),
 }
 
 /// A smooth or rough interface with its non-physical factors.
@@ -94,6 +96,12 @@ impl Surface {
             (Interface::Film(f), Some(d)) => {
                 Bxdf::RoughThinFilm(Rough::new(d, f.fresnel(tc, wl), r_s, t_s))
             }
+            (Interface::Stack(f), None) => {
+                Bxdf::FilmStack(Smooth::new(f.fresnel(tc, wl), r_s, t_s))
+            }
+            (Interface::Stack(f), Some(d)) => {
+                Bxdf::RoughFilmStack(Rough::new(d, f.fresnel(tc, wl), r_s, t_s))
+            }
         }
     }
 
@@ -103,6 +111,7 @@ impl Surface {
             Interface::Dielectric { .. } | Interface::ThinSheet { .. } => true,
             Interface::Conductor(_) => false,
             Interface::Film(f) => f.transmits(),
+            Interface::Stack(f) => f.transmits(),
         }
     }
 }

@@ -14,6 +14,9 @@ pub mod dielectric;
 pub mod diffuse;
 pub mod film;
 pub mod filmfresnel;
+pub mod filmstack;
+#[cfg(test)]
+mod filmstack_tests;
 pub mod fresnel;
 pub mod layered;
 pub mod material;
@@ -44,6 +47,7 @@ pub use material::{Interface, Material, Surface};
 use crate::math::{Frame, Vec2, Vec3};
 use crate::spectrum::SampledSpectrum;
 use filmfresnel::FilmFresnel;
+use filmstack::StackFresnel;
 use fresnel::{ConductorFresnel, DielectricFresnel, ThinSheetFresnel};
 use rough::Rough;
 use smooth::Smooth;
@@ -174,6 +178,10 @@ pub enum Bxdf {
     RoughConductor(Rough<ConductorFresnel>),
     /// `roughthinfilm` and `roughthinfilmconductor`.
     RoughThinFilm(Rough<FilmFresnel>),
+    /// `filmstack`, smooth.
+    FilmStack(Smooth<StackFresnel>),
+    /// `filmstack`, rough.
+    RoughFilmStack(Rough<StackFresnel>),
     /// `plastic` and `roughplastic`.
     Plastic(plastic::PlasticBxdf),
     Absorption(absorption::AbsorptionBxdf),
@@ -230,6 +238,8 @@ impl Bxdf {
             Bxdf::RoughDielectric(b) => b.flags(),
             Bxdf::RoughConductor(b) => b.flags(),
             Bxdf::RoughThinFilm(b) => b.flags(),
+            Bxdf::FilmStack(b) => b.flags(),
+            Bxdf::RoughFilmStack(b) => b.flags(),
             Bxdf::Plastic(b) => b.flags(),
             Bxdf::Absorption(b) => b.flags(),
             Bxdf::Layered(b) => b.flags(),
@@ -245,6 +255,7 @@ impl Bxdf {
             Bxdf::RoughDielectric(b) => b.f(wo, wi, mode),
             Bxdf::RoughConductor(b) => b.f(wo, wi, mode),
             Bxdf::RoughThinFilm(b) => b.f(wo, wi, mode),
+            Bxdf::RoughFilmStack(b) => b.f(wo, wi, mode),
             Bxdf::Plastic(b) => b.f(wo, wi),
             Bxdf::Absorption(b) => b.f(wo, wi),
             Bxdf::Layered(b) => b.f(wo, wi, mode),
@@ -252,6 +263,7 @@ impl Bxdf {
             | Bxdf::ThinDielectric(_)
             | Bxdf::Conductor(_)
             | Bxdf::ThinFilm(_)
+            | Bxdf::FilmStack(_)
             | Bxdf::Black => SampledSpectrum::ZERO,
         }
     }
@@ -267,6 +279,8 @@ impl Bxdf {
             Bxdf::RoughDielectric(b) => b.sample_f(wo, uc, u, mode),
             Bxdf::RoughConductor(b) => b.sample_f(wo, uc, u, mode),
             Bxdf::RoughThinFilm(b) => b.sample_f(wo, uc, u, mode),
+            Bxdf::FilmStack(b) => b.sample_f(wo, uc, mode),
+            Bxdf::RoughFilmStack(b) => b.sample_f(wo, uc, u, mode),
             Bxdf::Plastic(b) => b.sample_f(wo, uc, u),
             Bxdf::Absorption(b) => b.sample_f(wo, u),
             Bxdf::Layered(b) => b.sample_f(wo, uc, u, mode),
@@ -281,6 +295,7 @@ impl Bxdf {
             Bxdf::RoughDielectric(b) => b.pdf(wo, wi),
             Bxdf::RoughConductor(b) => b.pdf(wo, wi),
             Bxdf::RoughThinFilm(b) => b.pdf(wo, wi),
+            Bxdf::RoughFilmStack(b) => b.pdf(wo, wi),
             Bxdf::Plastic(b) => b.pdf(wo, wi),
             Bxdf::Absorption(b) => b.pdf(wo, wi),
             Bxdf::Layered(b) => b.pdf(wo, wi, mode),
@@ -288,6 +303,7 @@ impl Bxdf {
             | Bxdf::ThinDielectric(_)
             | Bxdf::Conductor(_)
             | Bxdf::ThinFilm(_)
+            | Bxdf::FilmStack(_)
             | Bxdf::Black => 0.0,
         }
     }

@@ -146,10 +146,12 @@ impl<'a> Args<'a> {
         Err(self.error(written, format!("must be {what}, got {v}")))
     }
 
-    fn missing(&self, p: &Param) -> SceneError {
+    fn missing(&self, p: &Param, name: &str) -> SceneError {
+        // An indexed declaration (`thickness_i`) is named as it was asked for (`thickness_0`).
+        let name = if p.name.ends_with("_i") { name } else { p.name };
         SceneError::at(
             &self.node.loc,
-            format!("{} needs '{}'", self.describe(), p.name),
+            format!("{} needs '{name}'", self.describe()),
         )
     }
 
@@ -163,7 +165,7 @@ impl<'a> Args<'a> {
             },
             None => match p.default {
                 DefaultValue::Float(v) => Some((v, p.name.to_string())),
-                DefaultValue::Required => return Err(self.missing(p)),
+                DefaultValue::Required => return Err(self.missing(p, name)),
                 _ => None,
             },
         };
@@ -176,7 +178,10 @@ impl<'a> Args<'a> {
     /// A float; the declaration must give a numeric default or require the value.
     pub fn float(&self, name: &str) -> Result<f32, SceneError> {
         self.float_opt(name)?.ok_or_else(|| {
-            self.missing(self.info.param(name).expect("declared: param() succeeded"))
+            self.missing(
+                self.info.param(name).expect("declared: param() succeeded"),
+                name,
+            )
         })
     }
 
@@ -187,7 +192,7 @@ impl<'a> Args<'a> {
             Some(n) => self.node.props.get_int_opt(&n)?.map(|v| (v, n)),
             None => match p.default {
                 DefaultValue::Int(v) => Some((v, p.name.to_string())),
-                DefaultValue::Required => return Err(self.missing(p)),
+                DefaultValue::Required => return Err(self.missing(p, name)),
                 _ => None,
             },
         };
@@ -200,7 +205,10 @@ impl<'a> Args<'a> {
     /// An integer with a declared default.
     pub fn int(&self, name: &str) -> Result<i64, SceneError> {
         self.int_opt(name)?.ok_or_else(|| {
-            self.missing(self.info.param(name).expect("declared: param() succeeded"))
+            self.missing(
+                self.info.param(name).expect("declared: param() succeeded"),
+                name,
+            )
         })
     }
 
@@ -211,7 +219,7 @@ impl<'a> Args<'a> {
             Some(n) => Ok(self.node.props.get_bool_opt(&n)?.unwrap_or(false)),
             None => match p.default {
                 DefaultValue::Bool(b) => Ok(b),
-                _ => Err(self.missing(p)),
+                _ => Err(self.missing(p, name)),
             },
         }
     }
@@ -223,7 +231,7 @@ impl<'a> Args<'a> {
             Some(n) => self.node.props.get_string_opt(&n)?.map(|s| (s, n)),
             None => match p.default {
                 DefaultValue::Str(s) => Some((s.to_string(), p.name.to_string())),
-                DefaultValue::Required => return Err(self.missing(p)),
+                DefaultValue::Required => return Err(self.missing(p, name)),
                 _ => None,
             },
         };
@@ -240,7 +248,10 @@ impl<'a> Args<'a> {
     /// A string with a declared default.
     pub fn string(&self, name: &str) -> Result<String, SceneError> {
         self.string_opt(name)?.ok_or_else(|| {
-            self.missing(self.info.param(name).expect("declared: param() succeeded"))
+            self.missing(
+                self.info.param(name).expect("declared: param() succeeded"),
+                name,
+            )
         })
     }
 
@@ -249,7 +260,7 @@ impl<'a> Args<'a> {
         let p = self.param(name)?;
         match self.present(p, name)? {
             Some(n) => self.node.props.get_path_opt(&n),
-            None if p.default == DefaultValue::Required => Err(self.missing(p)),
+            None if p.default == DefaultValue::Required => Err(self.missing(p, name)),
             None => Ok(None),
         }
     }
@@ -288,7 +299,7 @@ impl<'a> Args<'a> {
         let default = match p.default {
             DefaultValue::Str(s) => s,
             DefaultValue::Float(v) if written.is_none() => return Ok(v),
-            DefaultValue::Required if written.is_none() => return Err(self.missing(p)),
+            DefaultValue::Required if written.is_none() => return Err(self.missing(p, name)),
             _ => "air",
         };
         values::ior(self.node, written.as_deref().unwrap_or(p.name), default)
@@ -316,7 +327,7 @@ impl<'a> Args<'a> {
         let p = self.param(name)?;
         match self.present(p, name)? {
             Some(n) => values::spectrum_opt(self.node, &n, Self::kind(p)),
-            None if p.default == DefaultValue::Required => Err(self.missing(p)),
+            None if p.default == DefaultValue::Required => Err(self.missing(p, name)),
             None => Ok(Self::default_spectrum(p)),
         }
     }
@@ -331,13 +342,16 @@ impl<'a> Args<'a> {
             Some(n) => values::spectrum_opt(self.node, &n, kind)?,
             None => Self::default_spectrum(&as_kind),
         }
-        .ok_or_else(|| self.missing(p))
+        .ok_or_else(|| self.missing(p, name))
     }
 
     /// A spectrum value with a declared default.
     pub fn spectrum(&self, name: &str) -> Result<Spectrum, SceneError> {
         self.spectrum_opt(name)?.ok_or_else(|| {
-            self.missing(self.info.param(name).expect("declared: param() succeeded"))
+            self.missing(
+                self.info.param(name).expect("declared: param() succeeded"),
+                name,
+            )
         })
     }
 
@@ -376,7 +390,7 @@ impl<'a> Args<'a> {
         let p = self.param(name)?;
         match self.texture_child(p, name)? {
             Some(tex) => registry::texture(tex, want, self.warnings),
-            None => Err(self.missing(p)),
+            None => Err(self.missing(p, name)),
         }
     }
 

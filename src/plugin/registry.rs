@@ -14,6 +14,7 @@ pub(crate) const BSDFS: &[&Plugin<Material>] = &[
     &bsdf::conductor::PLUGIN,
     &bsdf::dielectric::PLUGIN,
     &bsdf::diffuse::PLUGIN,
+    &bsdf::filmstack::PLUGIN,
     &bsdf::layered::PLUGIN,
     &bsdf::normalmap::PLUGIN,
     &bsdf::null::PLUGIN,
