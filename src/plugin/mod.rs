@@ -42,6 +42,7 @@ pub(crate) use declare;
 
 mod args;
 mod error;
+mod files;
 pub mod manual;
 mod node;
 mod param;
@@ -52,6 +53,7 @@ pub mod values;
 
 pub use args::Args;
 pub use error::SceneError;
+pub use files::FileResolver;
 pub(crate) use node::describe;
 pub use node::{Child, Location, Node, Tag, Warning};
 pub use param::{Check, DefaultValue, Info, Param, Plugin, Ty};
