@@ -103,7 +103,7 @@ mod tests {
             .map(|i| match i % 17 {
                 0 => 0.0,
                 1 => 40.0,
-                _ => 10f64.powf(3.0 * rng.next_f64()) * 0.01,
+                _ => 10f64.powf(3.0 * rng.next_f32() as f64) * 0.01,
             })
             .collect();
         w[5] = 300.0;
