@@ -197,6 +197,8 @@ fn unused_after_load(info: &Info, value: &str) -> Result<Vec<String>, String> {
                 )
             })
             .map(|_| ()),
+        // Shape index 0 stands for the shape an `area` emitter would be nested in.
+        Tag::Emitter => registry::emitter(node, Some(0), &mut w).map(|_| ()),
         _ => return Err("not checked here".into()),
     };
     r.map_err(|e| e.to_string())?;
@@ -208,7 +210,7 @@ fn every_declared_parameter_is_read_under_every_spelling() {
     let mut checked = 0;
     let mut failures = Vec::new();
     for info in registry::all() {
-        if !matches!(info.tag, Tag::Bsdf | Tag::Texture) {
+        if !matches!(info.tag, Tag::Bsdf | Tag::Texture | Tag::Emitter) {
             continue;
         }
         // Plugins that need nested objects or files are loaded by their own tests.
@@ -261,6 +263,28 @@ fn misspelt_plugins_are_errors_with_suggestions() {
             .to_string();
         assert!(e.starts_with("t.xml:3:") && e.contains(want), "{e}");
     }
+}
+
+#[test]
+fn misspelt_emitters_are_errors_and_mitsuba_ones_ophis_lacks_are_warnings() {
+    let load = |body: &str| {
+        let xml = format!("<scene version=\"3.0.0\">\n\n{body}\n</scene>");
+        ophis::scene::build::load_scene_str(&xml, Path::new("t.xml"), &Default::default())
+            .map(|(s, w)| (s.lights.len(), w))
+            .map_err(|e| e.to_string())
+    };
+    let e = load(r#"<emitter type="sunksy"/>"#).expect_err("an error");
+    assert!(
+        e.starts_with("t.xml:3:") && e.contains("did you mean 'sunsky'"),
+        "{e}"
+    );
+    let (n, w) = load(r#"<emitter type="spot"/><emitter type="constant"/>"#).unwrap();
+    assert_eq!(n, 1);
+    assert!(
+        w.iter()
+            .any(|w| w.to_string().starts_with("t.xml:3:") && w.message.contains("'spot'")),
+        "{w:?}"
+    );
 }
 
 #[test]

@@ -1,9 +1,11 @@
 //! Diffuse area light (Mitsuba `area`, attached to a shape): constant radiance L(λ) leaving the
 //! front side of the shape (the side its geometric normal points to), nothing from the back.
 //!
-//! | XML name   | type     | default | unit                  |
-//! |------------|----------|---------|-----------------------|
-//! | `radiance` | spectrum | 1       | W·m⁻²·sr⁻¹(·nm⁻¹)     |
+//! ## Parameters
+//!
+//! | parameter | type | default | unit | meaning |
+//! |---|---|---|---|---|
+//! | `radiance` | spectrum | 1.0 | W·m⁻²·sr⁻¹·nm⁻¹ | radiance leaving the front side (RGB and numbers: times D65) |
 //!
 //! Sampling delegates to [`Shape::sample_direct`] (solid-angle density as seen from the shading
 //! point: cone sampling for spheres, uniform area otherwise) and [`Shape::pdf_direct`].
@@ -11,7 +13,31 @@
 //! Known limits: one-sided only (Mitsuba has no two-sided `area`); textured radiance is not
 //! supported; the power estimate π A L assumes a flat-ish emitter.
 
-use super::{LightLiSample, LightSampleContext};
+use super::{Light, LightLiSample, LightSampleContext};
+use crate::plugin::{declare, Args, DefaultValue, Param, SceneError, SpectrumKind, Ty};
+
+declare!(
+    /// The `area` plugin (the context is the index of the shape it is nested in).
+    pub(crate) PLUGIN: Vec<Light>, Option<u32> = Emitter "area" []
+    "diffuse emission from a shape's front side (nested in the shape)"
+    [&[
+        Param::new("radiance", Ty::Spectrum(SpectrumKind::Illuminant), DefaultValue::Float(1.0))
+            .unit("W·m⁻²·sr⁻¹·nm⁻¹")
+            .doc("radiance leaving the front side (RGB and numbers: times D65)"),
+    ]] load);
+
+fn load(a: &mut Args, shape: Option<u32>) -> Result<Vec<Light>, SceneError> {
+    let Some(shape) = shape else {
+        return Err(SceneError::at(
+            &a.node().loc,
+            "an 'area' emitter must be nested inside a shape",
+        ));
+    };
+    Ok(vec![Light::Area(AreaLight::new(
+        shape,
+        a.spectrum("radiance")?,
+    ))])
+}
 use crate::math::{Vec2, Vec3, PI};
 use crate::shape::{Shape, SurfaceInteraction};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};

@@ -1,9 +1,11 @@
 //! Constant environment (Mitsuba `constant`): the same radiance L(λ) arrives from every
 //! direction at infinity.
 //!
-//! | XML name   | type     | default | unit                  |
-//! |------------|----------|---------|-----------------------|
-//! | `radiance` | spectrum | 1       | W·m⁻²·sr⁻¹(·nm⁻¹)     |
+//! ## Parameters
+//!
+//! | parameter | type | default | unit | meaning |
+//! |---|---|---|---|---|
+//! | `radiance` | spectrum | 1.0 | W·m⁻²·sr⁻¹·nm⁻¹ | radiance from every direction (RGB and numbers: times D65) |
 //!
 //! Sampling: with a normal at the shading point, a defensive mixture (Hesterberg 1995) of 90 %
 //! cosine-weighted hemisphere about the normal and 10 % uniform sphere, so that a diffuse surface
@@ -13,7 +15,24 @@
 //! Known limits: the visibility point is placed beyond the scene's bounding sphere, so
 //! [`super::Light::preprocess`] must be called first.
 
-use super::{point_at_infinity, LightLiSample, LightSampleContext};
+use super::{point_at_infinity, Light, LightLiSample, LightSampleContext};
+use crate::plugin::{declare, Args, DefaultValue, Param, SceneError, SpectrumKind, Ty};
+
+declare!(
+    /// The `constant` plugin.
+    pub(crate) PLUGIN: Vec<Light>, Option<u32> = Emitter "constant" []
+    "uniform environment light"
+    [&[
+        Param::new("radiance", Ty::Spectrum(SpectrumKind::Illuminant), DefaultValue::Float(1.0))
+            .unit("W·m⁻²·sr⁻¹·nm⁻¹")
+            .doc("radiance from every direction (RGB and numbers: times D65)"),
+    ]] load);
+
+fn load(a: &mut Args, _: Option<u32>) -> Result<Vec<Light>, SceneError> {
+    Ok(vec![Light::Constant(ConstantLight::new(
+        a.spectrum("radiance")?,
+    ))])
+}
 use crate::math::warp::{square_to_cosine_hemisphere, square_to_uniform_sphere};
 use crate::math::{Frame, Vec2, Vec3, INV_4PI, INV_PI, PI};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};

@@ -1,17 +1,46 @@
 //! Directional light (Mitsuba `directional`): a light at infinity whose parallel rays deliver
 //! irradiance E(λ) to a surface perpendicular to them.
 //!
-//! | XML name     | type     | default  | unit                                            |
-//! |--------------|----------|----------|-------------------------------------------------|
-//! | `irradiance` | spectrum | 1        | W·m⁻²(·nm⁻¹)                                    |
-//! | `direction`  | vector   | (0,0,1)  | the direction the light travels; or `to_world` applied to local +z |
+//! ## Parameters
+//!
+//! | parameter | type | default | unit | meaning |
+//! |---|---|---|---|---|
+//! | `irradiance` | spectrum | 1.0 | W·m⁻²·nm⁻¹ | irradiance on a surface facing the light (RGB and numbers: times D65) |
+//! | `direction` | vector | `to_world` applied to +z | — | the direction the light travels |
+//! | `to_world` | transform | — | — | orients the light when `direction` is absent |
 //!
 //! Known limits: a delta light (next-event estimation only); the visibility point is placed
 //! beyond the scene's bounding sphere, so [`super::Light::preprocess`] must be called first.
 
-use super::{point_at_infinity, LightLiSample, LightSampleContext};
+use super::{point_at_infinity, Light, LightLiSample, LightSampleContext};
 use crate::math::{Vec3, PI};
+use crate::plugin::{declare, Args, DefaultValue, Param, SceneError, SpectrumKind, Ty};
 use crate::spectrum::{SampledWavelengths, Spectrum};
+
+declare!(
+    /// The `directional` plugin.
+    pub(crate) PLUGIN: Vec<Light>, Option<u32> = Emitter "directional" []
+    "parallel light from infinity"
+    [&[
+        Param::new("irradiance", Ty::Spectrum(SpectrumKind::Illuminant), DefaultValue::Float(1.0))
+            .unit("W·m⁻²·nm⁻¹")
+            .doc("irradiance on a surface facing the light (RGB and numbers: times D65)"),
+        Param::new("direction", Ty::Vector, DefaultValue::Derived("`to_world` applied to +z"))
+            .doc("the direction the light travels"),
+        Param::new("to_world", Ty::Transform, DefaultValue::None)
+            .doc("orients the light when `direction` is absent"),
+    ]] load);
+
+fn load(a: &mut Args, _: Option<u32>) -> Result<Vec<Light>, SceneError> {
+    let irradiance = a.spectrum("irradiance")?;
+    let dir = match a.vector_opt("direction")? {
+        Some(d) => d,
+        None => a.transform("to_world")?.vector(Vec3::Z),
+    };
+    let l = DirectionalLight::new(dir, irradiance)
+        .ok_or_else(|| a.error("direction", "must be a non-zero vector"))?;
+    Ok(vec![Light::Directional(l)])
+}
 
 /// A directional light.
 #[derive(Clone, Debug)]

@@ -3,11 +3,13 @@
 //! distribution over the texels (Pharr, Jakob & Humphreys, "Physically Based Rendering", 3rd ed.,
 //! §14.2.4).
 //!
-//! | XML name   | type      | default  | unit                                           |
-//! |------------|-----------|----------|------------------------------------------------|
-//! | `filename` | string    | —        | OpenEXR, Radiance HDR or PNG, linear RGB radiance |
-//! | `scale`    | float     | 1        | multiplies every texel                         |
-//! | `to_world` | transform | identity | rotation from the map's frame to the world      |
+//! ## Parameters
+//!
+//! | parameter | type | default | unit | meaning |
+//! |---|---|---|---|---|
+//! | `filename` | string | required | — | OpenEXR, Radiance HDR, PNG or JPEG image of linear RGB radiance |
+//! | `scale` | float | 1.0 | — | multiplies every texel; non-negative |
+//! | `to_world` | transform | — | — | rotation from the map's frame to the world |
 //!
 //! Mapping (Mitsuba 3's convention, y up): a unit direction d in the map's frame has
 //! u = atan2(d.x, −d.z) / 2π (mod 1) and v = acos(d.y) / π, with (u, v) = (0, 0) at the left of
@@ -39,11 +41,37 @@
 //! without being accounted for).
 
 use super::distribution::Distribution2D;
-use super::{point_at_infinity, LightLiSample, LightSampleContext};
-use crate::image_io::RgbImage;
+use super::{point_at_infinity, Light, LightLiSample, LightSampleContext};
+use crate::image_io::{read_image, RgbImage};
 use crate::math::{Transform, Vec2, Vec3, PI};
+use crate::plugin::{declare, Args, Check, DefaultValue, Param, SceneError, Ty};
 use crate::spectrum::cie::d65;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
+
+declare!(
+    /// The `envmap` plugin.
+    pub(crate) PLUGIN: Vec<Light>, Option<u32> = Emitter "envmap" []
+    "environment light from a latitude–longitude image"
+    [&[
+        Param::new("filename", Ty::String, DefaultValue::Required)
+            .doc("OpenEXR, Radiance HDR, PNG or JPEG image of linear RGB radiance"),
+        Param::float("scale", 1.0)
+            .check(Check::NonNegative)
+            .doc("multiplies every texel"),
+        Param::new("to_world", Ty::Transform, DefaultValue::None)
+            .doc("rotation from the map's frame to the world"),
+    ]] load);
+
+fn load(a: &mut Args, _: Option<u32>) -> Result<Vec<Light>, SceneError> {
+    let path = a
+        .path("filename")?
+        .ok_or_else(|| a.error("filename", "is required"))?;
+    let image = read_image(&path).map_err(|e| a.error("filename", e))?;
+    let scale = a.float("scale")?;
+    let to_world = a.transform("to_world")?;
+    let light = EnvMapLight::new(image, scale, to_world).map_err(|e| a.error("filename", e))?;
+    Ok(vec![Light::EnvMap(light)])
+}
 
 /// Why an environment map cannot be built.
 #[derive(Debug, thiserror::Error)]

@@ -1,17 +1,45 @@
 //! Isotropic point light (Mitsuba `point`): radiant intensity I(λ) in every direction, so the
 //! irradiance at distance d on a surface facing it is I/d² (inverse-square law).
 //!
-//! | XML name    | type     | default | unit                                    |
-//! |-------------|----------|---------|-----------------------------------------|
-//! | `intensity` | spectrum | 1       | W·sr⁻¹(·nm⁻¹)                           |
-//! | `position`  | point    | (0,0,0) | scene units; or the translation of `to_world` |
+//! ## Parameters
+//!
+//! | parameter | type | default | unit | meaning |
+//! |---|---|---|---|---|
+//! | `intensity` | spectrum | 1.0 | W·sr⁻¹·nm⁻¹ | radiant intensity (RGB and numbers: times D65) |
+//! | `position` | point | `to_world`'s translation | world units | where the light is |
+//! | `to_world` | transform | — | — | places the light at its translation when `position` is absent |
 //!
 //! Known limits: a delta light — only reachable by next-event estimation, never by BSDF sampling;
 //! no spot cone or goniometric profile.
 
-use super::{LightLiSample, LightSampleContext};
+use super::{Light, LightLiSample, LightSampleContext};
 use crate::math::Vec3;
+use crate::plugin::{declare, Args, DefaultValue, Param, SceneError, SpectrumKind, Ty};
 use crate::spectrum::{SampledWavelengths, Spectrum};
+
+declare!(
+    /// The `point` plugin.
+    pub(crate) PLUGIN: Vec<Light>, Option<u32> = Emitter "point" []
+    "isotropic point light"
+    [&[
+        Param::new("intensity", Ty::Spectrum(SpectrumKind::Illuminant), DefaultValue::Float(1.0))
+            .unit("W·sr⁻¹·nm⁻¹")
+            .doc("radiant intensity (RGB and numbers: times D65)"),
+        Param::new("position", Ty::Point, DefaultValue::Derived("`to_world`'s translation"))
+            .unit("world units")
+            .doc("where the light is"),
+        Param::new("to_world", Ty::Transform, DefaultValue::None)
+            .doc("places the light at its translation when `position` is absent"),
+    ]] load);
+
+fn load(a: &mut Args, _: Option<u32>) -> Result<Vec<Light>, SceneError> {
+    let intensity = a.spectrum("intensity")?;
+    let pos = match a.point_opt("position")? {
+        Some(p) => p,
+        None => a.transform("to_world")?.point(Vec3::ZERO),
+    };
+    Ok(vec![Light::Point(PointLight::new(pos, intensity))])
+}
 
 /// A point light.
 #[derive(Clone, Debug)]

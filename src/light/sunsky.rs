@@ -2,21 +2,29 @@
 //! ("A Practical Analytic Model for Daylight", SIGGRAPH 1999) and the solar disk, placed by a sun
 //! direction or by a place and a local time.
 //!
-//! | XML name           | type      | default    | unit / meaning                                   |
-//! |--------------------|-----------|------------|--------------------------------------------------|
-//! | `turbidity`        | float     | 3          | haze, 1.7–10 (2 = very clear, 3 = clear, 6 = hazy, 10 = very hazy) |
-//! | `sun_direction`    | vector    | —          | towards the sun, world space; overrides the time and place |
-//! | `latitude`         | float     | 35.6894    | degrees, north positive (default: Tokyo, as Mitsuba 0.6) |
-//! | `longitude`        | float     | 139.6917   | degrees, east positive                           |
-//! | `timezone`         | float     | 9          | hours from UTC of the local clock                |
-//! | `year` `month` `day` | integer | 2010 7 10  | local calendar date                              |
-//! | `hour` `minute` `second` | float | 15 0 0  | local clock time                                 |
-//! | `sun_scale`        | float     | 1          | `sunsky`: multiplies the sun's radiance          |
-//! | `sky_scale`        | float     | 1          | `sunsky`: multiplies the sky's radiance          |
-//! | `scale`            | float     | 1          | `sun` / `sky` alone: multiplies the radiance     |
-//! | `sun_radius_scale` | float     | 1          | scales the disk's angular radius (0.2667°) keeping its power; 0: a directional light |
-//! | `to_world`         | transform | identity   | rotation from the sky's frame (+y up, −z north, +x east) to the world |
-//! | `albedo`           | spectrum  | —          | accepted and ignored (Preetham's sky has no ground term); a warning says so |
+//! ## Parameters
+//!
+//! | parameter | type | default | unit | meaning |
+//! |---|---|---|---|---|
+//! | `turbidity` | float | 3.0 | — | haze: 2 very clear, 3 clear, 6 hazy, 10 very hazy; between 1.7 and 10 |
+//! | `sun_direction` (0.6: `sunDirection`) | vector | — | — | towards the sun, world space; overrides the time and place |
+//! | `latitude` | float | 35.6894 | degrees | north positive (default: Tokyo, as Mitsuba 0.6); between -90 and 90 |
+//! | `longitude` | float | 139.6917 | degrees | east positive; between -360 and 360 |
+//! | `timezone` | float | 9.0 | hours | offset of the local clock from UTC; between -14 and 14 |
+//! | `year` | integer | 2010 | — | local date; between 1000 and 3000 |
+//! | `month` | integer | 7 | — | local date; between 1 and 12 |
+//! | `day` | integer | 10 | — | local date; between 1 and 31 |
+//! | `hour` | float | 15.0 | — | local clock time; between 0 and 24 |
+//! | `minute` | float | 0.0 | — | local clock time; between 0 and 60 |
+//! | `second` | float | 0.0 | — | local clock time; between 0 and 60 |
+//! | `to_world` | transform | — | — | rotation from the sky's frame (+y up, −z north, +x east) to the world |
+//! | `albedo` | spectrum | — | — | accepted and ignored (Preetham's sky has no ground term), with a warning |
+//! | `sun_scale` (0.6: `sunScale`) | float | 1.0 | — | multiplies the sun's radiance; non-negative |
+//! | `sky_scale` (0.6: `skyScale`) | float | 1.0 | — | multiplies the sky's radiance; non-negative |
+//! | `sun_radius_scale` (0.6: `sunRadiusScale`) | float | 1.0 | — | scales the disk's angular radius (0.2667°) keeping its power; 0: a directional light; non-negative |
+//!
+//! `sun` and `sky` alone take one `scale` in place of `sun_scale` and `sky_scale`; `sky` has no
+//! `sun_radius_scale`.
 //!
 //! Mitsuba 0.6's camelCase names (`sunDirection`, `sunScale`, `skyScale`, `sunRadiusScale`,
 //! `toWorld`) arrive snake_cased by the 0.6 upgrade. Its `resolution`, `stretch` and `extend`
@@ -47,7 +55,163 @@ pub use sky::SkyLight;
 pub use solar::{solar_position, DateTime, SolarPosition};
 pub use sun::{SunLight, SunSpectrum, SUN_ANGULAR_RADIUS_DEG};
 
+use super::Light;
 use crate::math::{Transform, Vec3};
+use crate::plugin::{
+    declare, Args, Check, DefaultValue, Param, SceneError, SpectrumKind, Ty, Warning,
+};
+
+/// Where and when: shared by `sunsky`, `sun` and `sky`.
+const PLACE: &[Param] = &[
+    Param::float("turbidity", 3.0)
+        .check(Check::Range(1.7, 10.0))
+        .doc("haze: 2 very clear, 3 clear, 6 hazy, 10 very hazy"),
+    Param::new("sun_direction", Ty::Vector, DefaultValue::None)
+        .v06("sunDirection")
+        .doc("towards the sun, world space; overrides the time and place"),
+    Param::float("latitude", 35.6894)
+        .check(Check::Range(-90.0, 90.0))
+        .unit("degrees")
+        .doc("north positive (default: Tokyo, as Mitsuba 0.6)"),
+    Param::float("longitude", 139.6917)
+        .check(Check::Range(-360.0, 360.0))
+        .unit("degrees")
+        .doc("east positive"),
+    Param::float("timezone", 9.0)
+        .check(Check::Range(-14.0, 14.0))
+        .unit("hours")
+        .doc("offset of the local clock from UTC"),
+    Param::int("year", 2010)
+        .check(Check::Range(1000.0, 3000.0))
+        .doc("local date"),
+    Param::int("month", 7)
+        .check(Check::Range(1.0, 12.0))
+        .doc("local date"),
+    Param::int("day", 10)
+        .check(Check::Range(1.0, 31.0))
+        .doc("local date"),
+    Param::float("hour", 15.0)
+        .check(Check::Range(0.0, 24.0))
+        .doc("local clock time"),
+    Param::float("minute", 0.0)
+        .check(Check::Range(0.0, 60.0))
+        .doc("local clock time"),
+    Param::float("second", 0.0)
+        .check(Check::Range(0.0, 60.0))
+        .doc("local clock time"),
+    Param::new("to_world", Ty::Transform, DefaultValue::None)
+        .doc("rotation from the sky's frame (+y up, −z north, +x east) to the world"),
+    Param::new(
+        "albedo",
+        Ty::Spectrum(SpectrumKind::Albedo),
+        DefaultValue::None,
+    )
+    .doc("accepted and ignored (Preetham's sky has no ground term), with a warning"),
+];
+/// The scales of `sunsky`.
+const SUNSKY_SCALES: &[Param] = &[
+    Param::float("sun_scale", 1.0)
+        .check(Check::NonNegative)
+        .v06("sunScale")
+        .doc("multiplies the sun's radiance"),
+    Param::float("sky_scale", 1.0)
+        .check(Check::NonNegative)
+        .v06("skyScale")
+        .doc("multiplies the sky's radiance"),
+];
+/// The scale of `sun` or `sky` alone.
+const SCALE: &[Param] = &[Param::float("scale", 1.0)
+    .check(Check::NonNegative)
+    .doc("multiplies the radiance")];
+/// The sun's disk.
+const SUN_RADIUS: &[Param] = &[Param::float("sun_radius_scale", 1.0)
+    .check(Check::NonNegative)
+    .v06("sunRadiusScale")
+    .doc("scales the disk's angular radius (0.2667°) keeping its power; 0: a directional light")];
+
+declare!(
+    /// The `sunsky` plugin: two lights, sun and sky.
+    pub(crate) PLUGIN: Vec<Light>, Option<u32> = Emitter "sunsky" []
+    "Preetham's clear sky and the sun, by direction or by place and time"
+    [PLACE, SUNSKY_SCALES, SUN_RADIUS] load_sunsky);
+declare!(
+    /// The `sun` plugin.
+    pub(crate) SUN_PLUGIN: Vec<Light>, Option<u32> = Emitter "sun" []
+    "the solar disk of `sunsky` alone"
+    [PLACE, SCALE, SUN_RADIUS] load_sun);
+declare!(
+    /// The `sky` plugin.
+    pub(crate) SKY_PLUGIN: Vec<Light>, Option<u32> = Emitter "sky" []
+    "the clear sky of `sunsky` alone"
+    [PLACE, SCALE] load_sky);
+
+fn load_sunsky(a: &mut Args, _: Option<u32>) -> Result<Vec<Light>, SceneError> {
+    daylight(a, true, true)
+}
+fn load_sun(a: &mut Args, _: Option<u32>) -> Result<Vec<Light>, SceneError> {
+    daylight(a, true, false)
+}
+fn load_sky(a: &mut Args, _: Option<u32>) -> Result<Vec<Light>, SceneError> {
+    daylight(a, false, true)
+}
+
+/// The lights of a `sunsky` (sun then sky), `sun` or `sky` emitter.
+fn daylight(a: &mut Args, with_sun: bool, with_sky: bool) -> Result<Vec<Light>, SceneError> {
+    let placement = match a.vector_opt("sun_direction")? {
+        Some(d) => SunPlacement::Direction(d),
+        None => SunPlacement::Time {
+            latitude: a.float("latitude")? as f64,
+            longitude: a.float("longitude")? as f64,
+            time: DateTime {
+                year: a.int("year")? as i32,
+                month: a.int("month")? as u32,
+                day: a.int("day")? as u32,
+                hour: a.float("hour")? as f64,
+                minute: a.float("minute")? as f64,
+                second: a.float("second")? as f64,
+                timezone: a.float("timezone")? as f64,
+            },
+        },
+    };
+    let (sun_scale, sky_scale) = if with_sun && with_sky {
+        (a.float("sun_scale")?, a.float("sky_scale")?)
+    } else {
+        (a.float("scale")?, a.float("scale")?)
+    };
+    let params = SunSkyParams {
+        turbidity: a.float("turbidity")?,
+        placement,
+        sun_scale,
+        sky_scale,
+        sun_radius_scale: if with_sun {
+            a.float("sun_radius_scale")?
+        } else {
+            1.0
+        },
+        to_world: a.transform("to_world")?,
+    };
+    if let Some(loc) = a.node().props.location("albedo").cloned() {
+        a.ignore("albedo")?;
+        let message = format!(
+            "{}: 'albedo' is ignored (Preetham's sky has no ground term)",
+            a.describe()
+        );
+        a.warnings().push(Warning { loc, message });
+    }
+    let parts = SunSky::new(&params, with_sun, with_sky)
+        .ok_or_else(|| a.error("sun_direction", "must be a non-zero vector"))?;
+    if !parts.sun_is_up() {
+        let elevation = parts.sun_local.y.clamp(-1.0, 1.0).asin().to_degrees();
+        a.warn(format!(
+            "{}: the sun is below the horizon (elevation {elevation:.1}°); sun and sky are black",
+            a.describe()
+        ));
+    }
+    let mut lights = Vec::new();
+    lights.extend(parts.sun.map(Light::Sun));
+    lights.extend(parts.sky.map(Light::Sky));
+    Ok(lights)
+}
 
 /// Where the sun is.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -4,6 +4,7 @@
 use super::suggest::did_you_mean;
 use super::{Args, Info, Node, Plugin, SceneError, Tag, Warning};
 use crate::bsdf::{self, Material};
+use crate::light::{self, Light};
 use crate::plugin::SpectrumKind;
 use crate::texture::{self, FloatTexture, SpectrumTexture, Texture, Want};
 
@@ -41,10 +42,30 @@ pub(crate) const TEXTURES: &[&Plugin<Texture, Want>] = &[
     &texture::scales::PLUGIN,
 ];
 
+/// Emitters; the context is the index of the shape an emitter is nested in.
+pub(crate) const EMITTERS: &[&Plugin<Vec<Light>, Option<u32>>] = &[
+    &light::area::PLUGIN,
+    &light::constant::PLUGIN,
+    &light::directional::PLUGIN,
+    &light::envmap::PLUGIN,
+    &light::point::PLUGIN,
+    &light::sunsky::PLUGIN,
+    &light::sunsky::SKY_PLUGIN,
+    &light::sunsky::SUN_PLUGIN,
+];
+
+/// Mitsuba 3 plugins ophis does not have: a scene using one still loads, without it, and a
+/// warning says so (any other unknown name is an error with a suggestion).
+const MITSUBA_ONLY: &[(Tag, &[&str])] = &[(
+    Tag::Emitter,
+    &["spot", "projector", "mesh_attribute", "volumelight"],
+)];
+
 /// Every plugin's description, grouped by element, sorted by name within a group.
 pub fn all() -> Vec<&'static Info> {
     let mut v: Vec<&'static Info> = BSDFS.iter().map(|p| &p.info).collect();
     v.extend(TEXTURES.iter().map(|p| &p.info));
+    v.extend(EMITTERS.iter().map(|p| &p.info));
     v.sort_by_key(|i| (i.tag.as_str(), i.name.to_lowercase()));
     v
 }
@@ -93,6 +114,37 @@ fn lookup<T, C>(
 pub fn bsdf(node: &Node, warnings: &mut Vec<Warning>) -> Result<Material, SceneError> {
     let p = lookup(BSDFS, Tag::Bsdf, node)?;
     (p.load)(&mut Args::new(node, &p.info, warnings), ())
+}
+
+/// Builds the lights an `<emitter>` describes (`sunsky` is two; a Mitsuba plugin ophis lacks
+/// is none, with a warning); `shape` is the index of the shape it is nested in.
+pub fn emitter(
+    node: &Node,
+    shape: Option<u32>,
+    warnings: &mut Vec<Warning>,
+) -> Result<Vec<Light>, SceneError> {
+    if mitsuba_only(Tag::Emitter, node, warnings) {
+        return Ok(Vec::new());
+    }
+    let p = lookup(EMITTERS, Tag::Emitter, node)?;
+    (p.load)(&mut Args::new(node, &p.info, warnings), shape)
+}
+
+/// Whether `node` names a Mitsuba plugin ophis does not have (then warned about).
+fn mitsuba_only(tag: Tag, node: &Node, warnings: &mut Vec<Warning>) -> bool {
+    let known = MITSUBA_ONLY
+        .iter()
+        .any(|(t, names)| *t == tag && names.contains(&node.plugin.as_str()));
+    if known {
+        warnings.push(Warning {
+            loc: node.loc.clone(),
+            message: format!(
+                "{tag} '{}' is a Mitsuba plugin ophis does not have; it is ignored",
+                node.plugin
+            ),
+        });
+    }
+    known
 }
 
 /// Builds a texture of the kind asked for.
