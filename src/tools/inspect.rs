@@ -272,4 +272,30 @@ mod tests {
         );
         assert!((f.mean - 0.5 / std::f64::consts::PI).abs() < 1e-6);
     }
+
+    #[test]
+    fn plots_draw_the_lobes_and_the_hemisphere() {
+        let m = Material::diffuse(SpectrumTexture::Constant(Spectrum::Constant(1.0)));
+        let (polar, hemi) = plots(&m, 550.0, 30.0, 2000, 1).unwrap();
+        assert_eq!((polar.width(), polar.height()), (720, 460));
+        assert_eq!((hemi.width(), hemi.height()), (520, 520));
+        let count = |f: &Figure, c: [u8; 3]| {
+            (0..f.height() as i64)
+                .flat_map(|y| (0..f.width() as i64).map(move |x| (x, y)))
+                .filter(|&(x, y)| f.pixel(x, y) == Some(c))
+                .count()
+        };
+        // A Lambertian lobe does not depend on θi: the four coincide and the last one drawn
+        // covers the others, which show in the legend.
+        let palette = &super::super::plot::PALETTE;
+        for (k, c) in palette[..4].iter().enumerate() {
+            let n = count(&polar, [c.0, c.1, c.2]);
+            assert!(n >= 40 && (k < 3 || n > 400), "lobe {k}: {n} pixels");
+        }
+        // A Lambertian f·cos θo peaks at the normal: the centre of the disc has the ramp's top
+        // colour, and the corners outside the disc stay white.
+        let top = heat(1.0, 1.0).map(|v| (crate::image_io::linear_to_srgb(v) * 255.0).round() as u8);
+        assert!(count(&hemi, top) > 20);
+        assert!(count(&hemi, [255; 3]) > 520 * 520 / 10);
+    }
 }
