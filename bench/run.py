@@ -1,28 +1,48 @@
 #!/usr/bin/env python3
-"""End-to-end benchmark: ophis vs Mitsuba 3 on the same XML scenes, in one run.
+"""End-to-end benchmark: ophis vs Mitsuba 3 on the same XML scenes, side by side in one run.
 
 Renders scenes/cornell-box.xml (diffuse, glass and rough-gold spheres) and scenes/cornell-mesh.xml
 (the same room with a ~1M-triangle mesh) with ophis, and — where `import mitsuba` works — with
 Mitsuba 3's `llvm_ad_spectral` and `scalar_spectral` variants, at the same resolution, samples per
-pixel and path depth. Prints samples per second for each and the ratios, plus each image's mean
-linear-sRGB colour so that a mismatch in the scenes shows.
+pixel and path depth, interleaved, `--repeats` times. Prints, per scene and renderer, the median
+and the range (min–max) over the repeats of:
 
-Times are render times: ophis's own summary line (after loading and BVH build); Mitsuba's
-`mi.render` call, run twice with the second one timed so that LLVM's JIT compilation is excluded
-(the first time is printed too).
+- render: the render alone. ophis: its summary line (after parsing and BVH build). Mitsuba: the
+  `mi.render` call, run twice in one process with the second one timed, so that LLVM's JIT
+  compilation is excluded.
+- process: the whole process, parse + BVH build + render + write (Mitsuba: a fresh Python that
+  imports mitsuba, loads, renders once, JIT included, and writes the EXR).
+- Msamples/s from the render time, and ophis ÷ Mitsuba per repeat (> 1: ophis is faster), for
+  render and for process times.
 
-usage: python3 bench/run.py [--spp 64] [--res 256] [--no-build] [--no-mitsuba]
+and each image's mean linear-sRGB colour so that a mismatch between the scenes shows.
+
+usage: python3 bench/run.py [--spp 64] [--res 256] [--repeats 3] [--no-build] [--no-mitsuba]
+                            [--scenes cornell-box,cornell-mesh] [--variants llvm_ad_spectral,...]
 Mitsuba's llvm variants need Debian's libllvm19 (apt-get install libllvm19).
 """
 import argparse
 import os
 import re
+import statistics
 import subprocess
 import sys
 import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 OUT = os.path.join(ROOT, "target", "bench")
+
+# Run in a fresh interpreter: one whole Mitsuba process (import, load, render, write).
+MITSUBA_PROCESS = r"""
+import sys, json
+import mitsuba as mi
+variant, scene, out = sys.argv[1], sys.argv[2], sys.argv[3]
+params = json.loads(sys.argv[4])
+mi.set_variant(variant)
+sc = mi.load_file(scene, **params)
+img = mi.render(sc, spp=params["spp"], seed=0)
+mi.Bitmap(img).write(out)
+"""
 
 
 def ophis_render(scene, spp, res, defines, out):
@@ -50,27 +70,50 @@ def mean_rgb_exr(path):
 
 
 def mitsuba_render(variant, scene, spp, res, defines, out):
+    """Render time of a warm second render (JIT excluded) in this process, and the mean."""
     import mitsuba as mi
     import numpy as np
     mi.set_variant(variant)
     params = dict(spp=spp, res=res, **defines)
     sc = mi.load_file(scene, **params)
-    t0 = time.time()
     img = mi.render(sc, spp=spp, seed=0)
     np.array(img)
-    first = time.time() - t0
     t0 = time.time()
     img = mi.render(sc, spp=spp, seed=1)
     arr = np.array(img)
-    second = time.time() - t0
+    secs = time.time() - t0
     mi.Bitmap(img).write(out)
-    return second, first, arr[..., :3].reshape(-1, 3).mean(axis=0)
+    return secs, arr[..., :3].reshape(-1, 3).mean(axis=0)
+
+
+def mitsuba_process(variant, scene, spp, res, defines, out):
+    import json
+    params = dict(spp=spp, res=res, **defines)
+    t0 = time.time()
+    p = subprocess.run([sys.executable, "-c", MITSUBA_PROCESS, variant, scene, out, json.dumps(params)],
+                       capture_output=True, text=True)
+    if p.returncode != 0:
+        raise RuntimeError(p.stderr.strip().splitlines()[-1] if p.stderr.strip() else "failed")
+    return time.time() - t0
+
+
+def spread(xs, fmt="{:.2f}"):
+    """median (min–max) of a list."""
+    if not xs:
+        return "-"
+    med = statistics.median(xs)
+    if len(xs) == 1:
+        return fmt.format(med)
+    return (fmt + " ({}–{})").format(med, fmt.format(min(xs)), fmt.format(max(xs)))
 
 
 def main():
     ap = argparse.ArgumentParser(description="ophis vs Mitsuba 3 benchmark")
     ap.add_argument("--spp", type=int, default=64)
     ap.add_argument("--res", type=int, default=256)
+    ap.add_argument("--repeats", type=int, default=3)
+    ap.add_argument("--scenes", default="cornell-box,cornell-mesh")
+    ap.add_argument("--variants", default="llvm_ad_spectral,scalar_spectral")
     ap.add_argument("--no-build", action="store_true")
     ap.add_argument("--no-mitsuba", action="store_true")
     a = ap.parse_args()
@@ -81,37 +124,63 @@ def main():
     if not os.path.exists(mesh):
         subprocess.run([sys.executable, os.path.join(ROOT, "bench", "make_mesh.py"), mesh], check=True)
 
-    have_mi = False
+    variants = []
     if not a.no_mitsuba:
         try:
             import mitsuba  # noqa: F401
-            have_mi = True
+            variants = [v for v in a.variants.split(",") if v]
         except ImportError:
             print("(mitsuba not installed: pip install mitsuba — ophis only)")
 
     samples = a.res * a.res * a.spp
-    print(f"resolution {a.res}x{a.res}, {a.spp} spp, {samples} samples per image, {os.cpu_count()} cores")
-    print(f"{'scene':<14} {'renderer':<24} {'render s':>9} {'Msamples/s':>11} {'ophis ×':>8}  mean linear sRGB")
-    for name, defines in [("cornell-box", {}), ("cornell-mesh", {"mesh": mesh})]:
+    simd = "AVX-512" if "avx512f" in open("/proc/cpuinfo").read() else "AVX2 or less"
+    print(f"{time.strftime('%Y-%m-%d')}: resolution {a.res}x{a.res}, {a.spp} spp, {samples} samples per "
+          f"image, {os.cpu_count()} cores ({simd}), {a.repeats} repeats: median (min–max)")
+    scenes = {"cornell-box": {}, "cornell-mesh": {"mesh": mesh}}
+    for name in a.scenes.split(","):
+        defines = scenes[name]
         scene = os.path.join(ROOT, "scenes", name + ".xml")
-        out = os.path.join(OUT, f"{name}-ophis.exr")
-        secs, wall = ophis_render(scene, a.spp, a.res, defines, out)
-        ophis_sps = samples / secs
-        mean = mean_rgb_exr(out)
-        ms = "" if mean is None else "(%.4f, %.4f, %.4f)" % tuple(mean)
-        print(f"{name:<14} {'ophis':<24} {secs:9.2f} {ophis_sps / 1e6:11.3f} {'':>8}  {ms}   (wall {wall:.2f} s incl. load)")
-        if not have_mi:
-            continue
-        for variant in ["llvm_ad_spectral", "scalar_spectral"]:
-            try:
-                secs_m, first, mean_m = mitsuba_render(variant, scene, a.spp, a.res, defines,
-                                                       os.path.join(OUT, f"{name}-{variant}.exr"))
-            except Exception as e:  # e.g. libLLVM missing
-                print(f"{name:<14} {'mitsuba ' + variant:<24} failed: {str(e).splitlines()[0][:80]}")
+        rows = {"ophis": {"render": [], "process": []}}
+        for v in variants:
+            rows[v] = {"render": [], "process": []}
+        means = {}
+        failed = {}
+        for _ in range(a.repeats):
+            out = os.path.join(OUT, f"{name}-ophis.exr")
+            secs, wall = ophis_render(scene, a.spp, a.res, defines, out)
+            rows["ophis"]["render"].append(secs)
+            rows["ophis"]["process"].append(wall)
+            means["ophis"] = mean_rgb_exr(out)
+            for v in variants:
+                if v in failed:
+                    continue
+                out = os.path.join(OUT, f"{name}-{v}.exr")
+                try:
+                    secs, means[v] = mitsuba_render(v, scene, a.spp, a.res, defines, out)
+                    proc = mitsuba_process(v, scene, a.spp, a.res, defines, out)
+                except Exception as e:  # e.g. libLLVM missing
+                    failed[v] = str(e).splitlines()[0][:80]
+                    continue
+                rows[v]["render"].append(secs)
+                rows[v]["process"].append(proc)
+        print(f"\n{name}")
+        print(f"  {'renderer':<24} {'render s':>18} {'Msamples/s':>20} {'process s':>18} "
+              f"{'ophis × (render)':>20} {'ophis × (process)':>20}  mean linear sRGB")
+        o = rows["ophis"]
+        for r, t in rows.items():
+            if r in failed:
+                print(f"  {'mitsuba ' + r:<24} failed: {failed[r]}")
                 continue
-            sps = samples / secs_m
-            print(f"{name:<14} {'mitsuba ' + variant:<24} {secs_m:9.2f} {sps / 1e6:11.3f} {ophis_sps / sps:8.2f}  "
-                  f"({mean_m[0]:.4f}, {mean_m[1]:.4f}, {mean_m[2]:.4f})   (first run {first:.2f} s)")
+            sps = [samples / s / 1e6 for s in t["render"]]
+            label = r if r == "ophis" else "mitsuba " + r
+            ratio_r = ratio_p = ""
+            if r != "ophis":
+                ratio_r = spread([m / x for x, m in zip(o["render"], t["render"])])
+                ratio_p = spread([m / x for x, m in zip(o["process"], t["process"])])
+            m = means.get(r)
+            ms = "" if m is None else "(%.4f, %.4f, %.4f)" % tuple(m)
+            print(f"  {label:<24} {spread(t['render']):>18} {spread(sps, '{:.3f}'):>20} "
+                  f"{spread(t['process']):>18} {ratio_r:>20} {ratio_p:>20}  {ms}")
 
 
 if __name__ == "__main__":

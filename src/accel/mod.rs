@@ -1,16 +1,45 @@
 //! Ray-intersection acceleration over all primitives of all scene shapes.
 //!
-//! [`Bvh`] is the production structure; [`BruteForce`] tests every primitive and serves as the
-//! oracle in tests.
+//! # How the data flows
+//!
+//! **Build** ([`build`]). Every primitive with finite bounds becomes a 32-byte ref (bounds and
+//! a lane id: a triangle's global index, or a flagged shape index for a sphere or disk). A
+//! top-down binned-SAH build reorders the refs and groups them straight into 8-wide nodes,
+//! splitting the child with the largest surface area until a node has eight; leaves hold at
+//! most eight primitives, and the cost model counts them in blocks of four. Large ranges bin in
+//! parallel chunks and subtrees build in parallel, deterministically.
+//!
+//! **Layout** ([`layout`]). The tree becomes two flat arrays: [`wide::Node8`] (child boxes in
+//! structure-of-arrays form, 224 bytes) and [`block::Block`] (the leaves: four slots with
+//! copies of their triangles' corners and ids, 160 bytes), leaves in depth-first order. The
+//! refs and the build's own nodes are freed as soon as they are consumed, so the peak stays
+//! near the final size.
+//!
+//! **Traversal** ([`traverse`]). One ray against eight boxes at once, nearest child first,
+//! stack entries beyond the closest hit skipped; leaves test four triangles at once with the
+//! watertight test, bit-identical to the scalar one ([`crate::shape::mesh`]); shadow rays stop
+//! at the first hit. The code uses the portable lanes of [`simd`] and is compiled per
+//! instruction set ([`isa`]: AVX-512, AVX2, baseline), chosen at run time.
+//!
+//! **Queries**: [`Bvh::intersect`](Accel::intersect) and [`Bvh::occluded`](Accel::occluded)
+//! for one ray, [`Bvh::intersect_n`] / [`Bvh::occluded_n`] for a batch. [`BruteForce`] tests
+//! every primitive and is the oracle in tests.
 use crate::math::Ray;
 use crate::shape::{Hit, Shape};
 
+pub mod block;
 pub mod brute;
+pub mod build;
 pub mod bvh;
+pub mod isa;
+pub mod layout;
+pub mod simd;
+pub mod traverse;
 pub mod wide;
 
 pub use brute::BruteForce;
 pub use bvh::Bvh;
+pub use isa::Isa;
 
 /// A structure answering ray queries against a shape list.
 pub trait Accel {

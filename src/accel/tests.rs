@@ -1,4 +1,4 @@
-use super::bvh::MEDIAN_DEPTH;
+use super::build::MEDIAN_DEPTH;
 use super::*;
 use crate::math::{warp, Pcg32, Transform, Vec3};
 use crate::shape::{Disk, Sphere, TriangleMesh};
@@ -91,7 +91,8 @@ fn empty_and_single_primitive_scenes() {
     assert!(bvh.intersect(&[], &Ray::new(Vec3::ZERO, Vec3::Z)).is_none());
     let shapes = [Shape::Sphere(Sphere::simple(Vec3::new(0.0, 0.0, 5.0), 1.0))];
     let bvh = Bvh::build(&shapes);
-    assert_eq!((bvh.node_count(), bvh.depth()), (1, 1));
+    // A single leaf: no interior node.
+    assert_eq!((bvh.node_count(), bvh.depth()), (0, 1));
     let h = bvh
         .intersect(&shapes, &Ray::new(Vec3::ZERO, Vec3::Z))
         .unwrap();
@@ -221,4 +222,75 @@ fn bvh_build_time_1m() {
     );
     // Rays near the rim can pass beside the wavy grid.
     assert!(hits > rays * 95 / 100, "{hits}");
+}
+
+fn hit_bits(h: Option<Hit>) -> Option<(u32, u32, u32, u32, u32)> {
+    h.map(|h| {
+        (
+            h.shape,
+            h.prim,
+            h.t.to_bits(),
+            h.uv.x.to_bits(),
+            h.uv.y.to_bits(),
+        )
+    })
+}
+
+/// Every instruction-set variant this CPU runs (the baseline always; AVX2 and AVX-512 where
+/// present) gives bit-identical answers, single and batched; variants the CPU lacks are refused.
+#[test]
+fn every_isa_variant_gives_identical_hits() {
+    let mut shapes = scene(5);
+    shapes.push(Shape::Mesh(grid(20_000)));
+    let mut bvh = Bvh::build(&shapes);
+    assert!(bvh.set_isa(Isa::Baseline));
+    let mut rng = Pcg32::new(9, 3);
+    let rays: Vec<Ray> = (0..20_000)
+        .map(|i| {
+            let o = rand_in(&mut rng, -15.0, 15.0);
+            let mut r = Ray::new(o, warp::square_to_uniform_sphere(rng.next_vec2()));
+            if i % 4 == 0 {
+                r.t_max = 10.0 * rng.next_f32();
+            }
+            r
+        })
+        .collect();
+    let want: Vec<_> = rays
+        .iter()
+        .map(|r| {
+            (
+                hit_bits(bvh.intersect(&shapes, r)),
+                bvh.occluded(&shapes, r),
+            )
+        })
+        .collect();
+    let hits = want.iter().filter(|w| w.0.is_some()).count();
+    assert!(hits > 5_000 && hits < 19_000, "{hits}");
+    let mut tested = 0;
+    for isa in Isa::ALL {
+        if !bvh.set_isa(isa) {
+            assert!(!isa.supported());
+            assert_ne!(bvh.isa(), isa);
+            continue;
+        }
+        tested += 1;
+        let mut batch = vec![None; rays.len()];
+        let mut blocked = vec![false; rays.len()];
+        bvh.intersect_n(&shapes, &rays, &mut batch);
+        bvh.occluded_n(&shapes, &rays, &mut blocked);
+        for (i, r) in rays.iter().enumerate() {
+            let got = (
+                hit_bits(bvh.intersect(&shapes, r)),
+                bvh.occluded(&shapes, r),
+            );
+            assert_eq!(got, want[i], "{isa:?}, ray {i}");
+            assert_eq!(
+                (hit_bits(batch[i]), blocked[i]),
+                want[i],
+                "{isa:?} batch, ray {i}"
+            );
+        }
+    }
+    assert!(tested >= 1);
+    assert!(Isa::best().supported());
 }

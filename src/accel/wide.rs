@@ -1,148 +1,126 @@
-//! A 4-wide BVH, collapsed from the binary SAH tree, traversed with SIMD box tests.
+//! The 8-wide node: the bounds of up to eight children, tested against one ray at once.
 //!
-//! Each node holds the bounds of up to four children in structure-of-arrays form, so one ray is
-//! tested against four boxes with 4-lane SIMD (glam's `Vec4`). The collapse repeatedly opens
-//! the child with the largest surface area until four children are gathered (Wald, Benthin &
-//! Boulos, "Getting Rid of Packets", 2008, describe the same n-ary layout). Leaves keep the
-//! binary tree's primitive ranges, so the primitive order and the leaf tests are unchanged.
+//! Bounds are stored as structure-of-arrays (`lo[axis][lane]`, `hi[axis][lane]`), so the slab
+//! test is six 8-lane subtractions and multiplications and a handful of min/max (one AVX2
+//! instruction each). Children are referenced by a [`u32`]: an interior node's index, a leaf
+//! (a run of [`super::block::Block`]s, see [`leaf_ref`]), or [`EMPTY_CHILD`]. Wald, Benthin &
+//! Boulos, "Getting Rid of Packets", 2008, describe this n-ary layout for single-ray SIMD
+//! traversal.
+use super::simd::Vec8;
+use crate::math::Vec3;
 
-use crate::math::{Bounds3, Vec3};
-use glam::Vec4;
+/// Child reference of an unused lane.
+pub const EMPTY_CHILD: u32 = u32::MAX;
+/// Flag of a leaf reference.
+pub const LEAF: u32 = 1 << 31;
+/// Bits 27..30 of a leaf reference hold its block count minus one.
+const BLOCKS_SHIFT: u32 = 27;
+/// Most blocks in one leaf.
+pub const MAX_LEAF_BLOCKS: usize = 16;
+/// Most blocks a leaf reference can address.
+pub const MAX_BLOCKS: usize = 1 << BLOCKS_SHIFT;
 
-/// Lane value marking an empty child.
-const EMPTY: u32 = u32::MAX;
-
-/// Four children: their bounds (SoA), and for each either an interior node index
-/// (`count` = 0) or a primitive range `child .. child + count`.
-#[derive(Clone, Copy, Debug)]
-#[repr(C, align(16))]
-pub struct Node4 {
-    min_x: [f32; 4],
-    min_y: [f32; 4],
-    min_z: [f32; 4],
-    max_x: [f32; 4],
-    max_y: [f32; 4],
-    max_z: [f32; 4],
-    pub child: [u32; 4],
-    pub count: [u32; 4],
-    /// Bit i set when lane i holds a child.
-    pub valid: u32,
+/// The reference of a leaf holding blocks `first .. first + count`.
+pub fn leaf_ref(first: usize, count: usize) -> u32 {
+    assert!((1..=MAX_LEAF_BLOCKS).contains(&count) && first < MAX_BLOCKS);
+    LEAF | ((count as u32 - 1) << BLOCKS_SHIFT) | first as u32
 }
 
-impl Node4 {
-    fn empty() -> Node4 {
-        Node4 {
-            min_x: [f32::INFINITY; 4],
-            min_y: [f32::INFINITY; 4],
-            min_z: [f32::INFINITY; 4],
-            max_x: [f32::NEG_INFINITY; 4],
-            max_y: [f32::NEG_INFINITY; 4],
-            max_z: [f32::NEG_INFINITY; 4],
-            child: [EMPTY; 4],
-            count: [0; 4],
-            valid: 0,
-        }
-    }
-
-    fn set(&mut self, lane: usize, b: &Bounds3, child: u32, count: u32) {
-        self.min_x[lane] = b.min.x;
-        self.min_y[lane] = b.min.y;
-        self.min_z[lane] = b.min.z;
-        self.max_x[lane] = b.max.x;
-        self.max_y[lane] = b.max.y;
-        self.max_z[lane] = b.max.z;
-        self.child[lane] = child;
-        self.count[lane] = count;
-        self.valid |= 1 << lane;
-    }
-
-    /// Entry distances of the four boxes and the mask of those the ray overlaps in (0, t_max).
-    #[inline(always)]
-    pub fn hit(&self, o: &[Vec4; 3], inv_d: &[Vec4; 3], t_max: f32) -> (Vec4, u32) {
-        let tx0 = (Vec4::from_array(self.min_x) - o[0]) * inv_d[0];
-        let tx1 = (Vec4::from_array(self.max_x) - o[0]) * inv_d[0];
-        let ty0 = (Vec4::from_array(self.min_y) - o[1]) * inv_d[1];
-        let ty1 = (Vec4::from_array(self.max_y) - o[1]) * inv_d[1];
-        let tz0 = (Vec4::from_array(self.min_z) - o[2]) * inv_d[2];
-        let tz1 = (Vec4::from_array(self.max_z) - o[2]) * inv_d[2];
-        let near = tx0
-            .min(tx1)
-            .max(ty0.min(ty1))
-            .max(tz0.min(tz1))
-            .max(Vec4::ZERO);
-        // Widen the exit a little so rounding never drops a box a primitive inside is hit in.
-        let far = tx0
-            .max(tx1)
-            .min(ty0.max(ty1))
-            .min(tz0.max(tz1))
-            .min(Vec4::splat(t_max))
-            * (1.0 + 3.0 * f32::EPSILON);
-        (near, near.cmple(far).bitmask())
-    }
-}
-
-/// A binary node as the collapse sees it.
-pub struct Binary {
-    pub bounds: Bounds3,
-    /// First child (children adjacent) or first primitive.
-    pub offset: u32,
-    /// Primitive count; 0 for an interior node.
-    pub count: u32,
-}
-
-/// Collapses a binary tree (root at index 0, children of an interior node at `offset` and
-/// `offset + 1`) into 4-wide nodes; the root is node 0.
-pub fn collapse(binary: &[Binary]) -> Vec<Node4> {
-    let mut out = Vec::with_capacity(binary.len() / 2 + 1);
-    if binary.is_empty() {
-        return out;
-    }
-    out.push(Node4::empty());
-    if binary[0].count > 0 {
-        // A single leaf: one lane.
-        out[0].set(0, &binary[0].bounds, binary[0].offset, binary[0].count);
-        return out;
-    }
-    fill(binary, 0, 0, &mut out);
-    out
-}
-
-fn area(b: &Bounds3) -> f32 {
-    b.surface_area()
-}
-
-fn fill(binary: &[Binary], node2: usize, at: usize, out: &mut Vec<Node4>) {
-    // Gather up to four children by opening the largest interior child.
-    let first = binary[node2].offset as usize;
-    let mut kids: Vec<usize> = vec![first, first + 1];
-    while kids.len() < 4 {
-        let open = kids
-            .iter()
-            .enumerate()
-            .filter(|(_, &k)| binary[k].count == 0)
-            .max_by(|a, b| area(&binary[*a.1].bounds).total_cmp(&area(&binary[*b.1].bounds)))
-            .map(|(i, _)| i);
-        let Some(i) = open else { break };
-        let k = kids.swap_remove(i);
-        let c = binary[k].offset as usize;
-        kids.push(c);
-        kids.push(c + 1);
-    }
-    for (lane, &k) in kids.iter().enumerate() {
-        let b = &binary[k];
-        if b.count > 0 {
-            out[at].set(lane, &b.bounds, b.offset, b.count);
-        } else {
-            let idx = out.len();
-            out.push(Node4::empty());
-            out[at].set(lane, &b.bounds, idx as u32, 0);
-            fill(binary, k, idx, out);
-        }
-    }
-}
-
-/// Splats a vector's components into three 4-lane vectors.
+/// The block range of a leaf reference.
 #[inline(always)]
-pub fn splat3(v: Vec3) -> [Vec4; 3] {
-    [Vec4::splat(v.x), Vec4::splat(v.y), Vec4::splat(v.z)]
+pub fn leaf_range(r: u32) -> (usize, usize) {
+    let first = (r & ((1 << BLOCKS_SHIFT) - 1)) as usize;
+    let count = (((r >> BLOCKS_SHIFT) & 0xf) + 1) as usize;
+    (first, count)
+}
+
+/// Eight children; see the module header.
+#[derive(Clone, Copy, Debug)]
+#[repr(C, align(32))]
+pub struct Node8 {
+    lo: [[f32; 8]; 3],
+    hi: [[f32; 8]; 3],
+    pub child: [u32; 8],
+}
+
+const _: () = assert!(std::mem::size_of::<Node8>() == 224);
+
+impl Node8 {
+    /// A node with no children.
+    pub fn empty() -> Node8 {
+        Node8 {
+            lo: [[f32::INFINITY; 8]; 3],
+            hi: [[f32::INFINITY; 8]; 3],
+            child: [EMPTY_CHILD; 8],
+        }
+    }
+
+    /// Sets lane `lane` to a child with bounds `lo ..= hi`.
+    pub fn set(&mut self, lane: usize, lo: Vec3, hi: Vec3, child: u32) {
+        for a in 0..3 {
+            self.lo[a][lane] = lo[a];
+            self.hi[a][lane] = hi[a];
+        }
+        self.child[lane] = child;
+    }
+
+    /// Bounds of lane `lane`.
+    pub fn bounds(&self, lane: usize) -> (Vec3, Vec3) {
+        let v = |b: &[[f32; 8]; 3]| Vec3::new(b[0][lane], b[1][lane], b[2][lane]);
+        (v(&self.lo), v(&self.hi))
+    }
+
+    /// Entry distances of the eight boxes and the bit mask of the children the ray overlaps in
+    /// [0, t_max]. `o` and `inv_d` are the ray origin and reciprocal direction, splatted.
+    #[inline(always)]
+    pub fn hit<V: Vec8>(&self, o: &[V; 3], inv_d: &[V; 3], t_max: f32) -> (V, u32) {
+        let mut near = V::splat(0.0);
+        let mut far = V::splat(t_max);
+        for a in 0..3 {
+            let t0 = V::load(&self.lo[a]).sub(o[a]).mul(inv_d[a]);
+            let t1 = V::load(&self.hi[a]).sub(o[a]).mul(inv_d[a]);
+            // `x.max(near)` keeps `near` when x is NaN (0·∞ for an origin on a slab plane of a
+            // direction parallel to it), and likewise for `far`: the test stays conservative.
+            near = t0.min(t1).max(near);
+            far = t0.max(t1).min(far);
+        }
+        // Widen the exit a little so rounding never drops a box a primitive inside is hit in.
+        let far = far.mul(V::splat(1.0 + 3.0 * f32::EPSILON));
+        (near, near.le_bits(far) & V::used_bits(&self.child))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::accel::simd::Pair8;
+
+    #[test]
+    fn leaf_refs_round_trip_and_empty_lanes_are_never_hit() {
+        for (first, count) in [(0, 1), (12345, 16), (MAX_BLOCKS - 1, 3)] {
+            let r = leaf_ref(first, count);
+            assert!(r & LEAF != 0 && r != EMPTY_CHILD);
+            assert_eq!(leaf_range(r), (first, count));
+        }
+        let mut n = Node8::empty();
+        n.set(2, Vec3::splat(-1.0), Vec3::splat(1.0), 7);
+        assert_eq!(n.bounds(2), (Vec3::splat(-1.0), Vec3::splat(1.0)));
+        // Every direction sign pattern, including zero components and an infinite extent.
+        for d in [
+            Vec3::new(1.0, 1.0, 1.0),
+            Vec3::new(-1.0, 1.0, -1.0),
+            Vec3::new(0.0, 0.0, 1.0),
+            Vec3::new(-0.0, 1.0, 0.0),
+        ] {
+            let inv = d.recip();
+            let s = Pair8::splat;
+            let o = [s(-5.0 * d.x), s(-5.0 * d.y), s(-5.0 * d.z)];
+            let inv = [s(inv.x), s(inv.y), s(inv.z)];
+            let (near, mask) = n.hit(&o, &inv, f32::INFINITY);
+            assert_eq!(mask, 1 << 2, "{d}");
+            let near = near.to_array()[2];
+            assert!((near - 4.0).abs() < 1e-5, "{d}: {near}");
+            assert_eq!(n.hit(&o, &inv, 3.9).1, 0, "{d}");
+        }
+    }
 }

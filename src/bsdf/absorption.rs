@@ -28,41 +28,35 @@
 
 use super::{BsdfSample, BxdfFlags, Material};
 use crate::math::{warp, Vec2, Vec3, INV_PI};
-use crate::plugin::{
-    Args, Check, DefaultValue, Info, Param, Plugin, SceneError, SpectrumKind, Tag, Ty,
-};
+use crate::plugin::{declare, Args, Check, DefaultValue, Param, SceneError, SpectrumKind, Ty};
 use crate::spectrum::SampledSpectrum;
 
-/// The `absorption` plugin.
-pub(crate) const PLUGIN: Plugin<Material> = Plugin {
-    info: Info {
-        name: "absorption",
-        aliases: &["Absorption"],
-        tag: Tag::Bsdf,
-        summary: "the thesis's pigment layer: Beer–Lambert absorption over a Lambertian base",
-        params: &[&[
-            Param::new(
-                "reflectance",
-                Ty::SpectrumTexture(SpectrumKind::Albedo),
-                DefaultValue::Float(0.5),
-            )
-            .doc("albedo of the base"),
-            Param::new(
-                "sigma_a",
-                Ty::SpectrumTexture(SpectrumKind::Unbounded),
-                DefaultValue::Float(0.0),
-            )
-            .v06("sigmaA")
-            .unit("1/(unit of `thickness`)")
-            .doc("absorption coefficient"),
-            Param::float("thickness", 1.0)
-                .check(Check::NonNegative)
-                .doc("thickness of the layer"),
-        ]],
-        file: file!(),
-    },
-    load,
-};
+/// The parameters.
+const PARAMS: &[Param] = &[
+    Param::new(
+        "reflectance",
+        Ty::SpectrumTexture(SpectrumKind::Albedo),
+        DefaultValue::Float(0.5),
+    )
+    .doc("albedo of the base"),
+    Param::new(
+        "sigma_a",
+        Ty::SpectrumTexture(SpectrumKind::Unbounded),
+        DefaultValue::Float(0.0),
+    )
+    .v06("sigmaA")
+    .unit("1/(unit of `thickness`)")
+    .doc("absorption coefficient"),
+    Param::float("thickness", 1.0)
+        .check(Check::NonNegative)
+        .doc("thickness of the layer"),
+];
+
+declare!(
+    /// The `absorption` plugin.
+    pub(crate) PLUGIN: Material = Bsdf "absorption" ["Absorption"]
+    "the thesis's pigment layer: Beer–Lambert absorption over a Lambertian base"
+    [PARAMS] load);
 
 fn load(a: &mut Args, _: ()) -> Result<Material, SceneError> {
     Ok(Material::Absorption {

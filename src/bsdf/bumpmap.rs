@@ -38,18 +38,15 @@
 
 use super::material::Material;
 use crate::math::{Frame, Vec2, Vec3};
-use crate::plugin::{Args, DefaultValue, Info, Param, Plugin, SceneError, Tag, Ty};
+use crate::plugin::{declare, Args, DefaultValue, Param, SceneError, Tag, Ty};
 use crate::shape::SurfaceInteraction;
 use crate::texture::{FloatTexture, NormalSource, Scales, TexCoord, Texture, Want};
 
-/// The `bumpmap` plugin.
-pub(crate) const PLUGIN: Plugin<Material> = Plugin {
-    info: Info {
-        name: "bumpmap",
-        aliases: &[],
-        tag: Tag::Bsdf,
-        summary: "bump mapping: a nested BSDF with its normal displaced by a height texture",
-        params: &[&[
+declare!(
+    /// The `bumpmap` plugin.
+    pub(crate) PLUGIN: Material = Bsdf "bumpmap" []
+    "bump mapping: a nested BSDF with its normal displaced by a height texture"
+    [&[
             Param::new("(nested texture)", Ty::Texture, DefaultValue::Required)
                 .doc("the height h (a float texture: `scales`, `bitmap`, …)"),
             Param::float("scale", 1.0)
@@ -61,11 +58,7 @@ pub(crate) const PLUGIN: Plugin<Material> = Plugin {
                 DefaultValue::Derived("`diffuse`"),
             )
             .doc("the material being bumped"),
-        ]],
-        file: file!(),
-    },
-    load,
-};
+        ]] load);
 
 /// The single nested BSDF of a wrapper (Mitsuba's default diffuse when absent).
 pub(crate) fn nested_bsdf(a: &mut Args) -> Result<Material, SceneError> {

@@ -17,20 +17,13 @@
 
 use super::params::{conductor_ior, surface, METAL, REFLECTION_FACTOR};
 use super::{Interface, Material};
-use crate::plugin::{Args, Info, Plugin, SceneError, Tag};
+use crate::plugin::{declare, Args, SceneError};
 
-/// The `conductor` plugin.
-pub(crate) const PLUGIN: Plugin<Material> = Plugin {
-    info: Info {
-        name: "conductor",
-        aliases: &[],
-        tag: Tag::Bsdf,
-        summary: "polished metal or perfect mirror, measured complex indices",
-        params: &[METAL, REFLECTION_FACTOR],
-        file: file!(),
-    },
-    load,
-};
+declare!(
+    /// The `conductor` plugin.
+    pub(crate) PLUGIN: Material = Bsdf "conductor" []
+    "polished metal or perfect mirror, measured complex indices"
+    [METAL, REFLECTION_FACTOR] load);
 
 fn load(a: &mut Args, _: ()) -> Result<Material, SceneError> {
     let ior = conductor_ior(a)?;

@@ -21,20 +21,13 @@
 
 use super::params::{relative_ior, surface, DIELECTRIC_IORS, FACTORS};
 use super::{Interface, Material};
-use crate::plugin::{Args, Info, Plugin, SceneError, Tag};
+use crate::plugin::{declare, Args, SceneError};
 
-/// The `dielectric` plugin.
-pub(crate) const PLUGIN: Plugin<Material> = Plugin {
-    info: Info {
-        name: "dielectric",
-        aliases: &[],
-        tag: Tag::Bsdf,
-        summary: "smooth glass or water: Fresnel reflection and refraction",
-        params: &[DIELECTRIC_IORS, FACTORS],
-        file: file!(),
-    },
-    load,
-};
+declare!(
+    /// The `dielectric` plugin.
+    pub(crate) PLUGIN: Material = Bsdf "dielectric" []
+    "smooth glass or water: Fresnel reflection and refraction"
+    [DIELECTRIC_IORS, FACTORS] load);
 
 fn load(a: &mut Args, _: ()) -> Result<Material, SceneError> {
     let eta = relative_ior(a)?;

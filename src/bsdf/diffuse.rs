@@ -12,26 +12,19 @@
 
 use super::{BsdfSample, BxdfFlags, Material};
 use crate::math::{warp, Vec2, Vec3, INV_PI};
-use crate::plugin::{Args, DefaultValue, Info, Param, Plugin, SceneError, SpectrumKind, Tag, Ty};
+use crate::plugin::{declare, Args, DefaultValue, Param, SceneError, SpectrumKind, Ty};
 use crate::spectrum::SampledSpectrum;
 
-/// The `diffuse` plugin.
-pub(crate) const PLUGIN: Plugin<Material> = Plugin {
-    info: Info {
-        name: "diffuse",
-        aliases: &[],
-        tag: Tag::Bsdf,
-        summary: "Lambertian reflection",
-        params: &[&[Param::new(
+declare!(
+    /// The `diffuse` plugin.
+    pub(crate) PLUGIN: Material = Bsdf "diffuse" []
+    "Lambertian reflection"
+    [&[Param::new(
             "reflectance",
             Ty::SpectrumTexture(SpectrumKind::Albedo),
             DefaultValue::Float(0.5),
         )
-        .doc("albedo")]],
-        file: file!(),
-    },
-    load,
-};
+        .doc("albedo")]] load);
 
 fn load(a: &mut Args, _: ()) -> Result<Material, SceneError> {
     Ok(Material::diffuse(a.spectrum_texture("reflectance")?))

@@ -16,16 +16,13 @@
 
 use super::bumpmap::{nested_bsdf, normal_source};
 use super::Material;
-use crate::plugin::{Args, DefaultValue, Info, Param, Plugin, SceneError, Tag, Ty};
+use crate::plugin::{declare, Args, DefaultValue, Param, SceneError, Ty};
 
-/// The `normalmap` plugin.
-pub(crate) const PLUGIN: Plugin<Material> = Plugin {
-    info: Info {
-        name: "normalmap",
-        aliases: &[],
-        tag: Tag::Bsdf,
-        summary: "a nested BSDF shaded with tangent-space normals from a texture",
-        params: &[&[
+declare!(
+    /// The `normalmap` plugin.
+    pub(crate) PLUGIN: Material = Bsdf "normalmap" []
+    "a nested BSDF shaded with tangent-space normals from a texture"
+    [&[
             Param::new("(nested texture)", Ty::Texture, DefaultValue::Required)
                 .doc("a `bitmap` (tangent-space normals) or a `scales` texture"),
             Param::float("strength", 1.0).doc("multiplies the slope of the normals"),
@@ -35,11 +32,7 @@ pub(crate) const PLUGIN: Plugin<Material> = Plugin {
                 DefaultValue::Derived("`diffuse`"),
             )
             .doc("the material"),
-        ]],
-        file: file!(),
-    },
-    load,
-};
+        ]] load);
 
 fn load(a: &mut Args, _: ()) -> Result<Material, SceneError> {
     Ok(Material::NormalMap {

@@ -10,20 +10,13 @@
 //! Known limits: none.
 
 use super::Material;
-use crate::plugin::{Args, Info, Plugin, SceneError, Tag};
+use crate::plugin::{declare, Args, SceneError};
 
-/// The `null` plugin.
-pub(crate) const PLUGIN: Plugin<Material> = Plugin {
-    info: Info {
-        name: "null",
-        aliases: &[],
-        tag: Tag::Bsdf,
-        summary: "invisible boundary: paths pass through unchanged",
-        params: &[],
-        file: file!(),
-    },
-    load,
-};
+declare!(
+    /// The `null` plugin.
+    pub(crate) PLUGIN: Material = Bsdf "null" []
+    "invisible boundary: paths pass through unchanged"
+    [] load);
 
 fn load(_: &mut Args, _: ()) -> Result<Material, SceneError> {
     Ok(Material::Null)

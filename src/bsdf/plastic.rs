@@ -43,7 +43,7 @@ use super::microfacet::{MicrofacetDistribution, MicrofacetType};
 use super::params::{EXT_IOR, INT_IOR, SPECULAR_REFLECTANCE};
 use super::{BsdfSample, BxdfFlags, Material};
 use crate::math::{reflect, warp, Vec2, Vec3, INV_PI};
-use crate::plugin::{Args, DefaultValue, Info, Param, Plugin, SceneError, SpectrumKind, Tag, Ty};
+use crate::plugin::{declare, Args, DefaultValue, Param, SceneError, SpectrumKind, Ty};
 use crate::spectrum::SampledSpectrum;
 use crate::texture::FloatTexture;
 
@@ -65,18 +65,11 @@ pub(crate) const PLASTIC: &[Param] = &[
         .doc("account for the substrate's colour in the internal reflections"),
 ];
 
-/// The `plastic` plugin.
-pub(crate) const PLUGIN: Plugin<Material> = Plugin {
-    info: Info {
-        name: "plastic",
-        aliases: &[],
-        tag: Tag::Bsdf,
-        summary: "diffuse substrate under a smooth dielectric coating",
-        params: &[PLASTIC],
-        file: file!(),
-    },
-    load: |a, _| load_plastic(a, None),
-};
+declare!(
+    /// The `plastic` plugin.
+    pub(crate) PLUGIN: Material = Bsdf "plastic" []
+    "diffuse substrate under a smooth dielectric coating"
+    [PLASTIC] |a, _| load_plastic(a, None));
 
 /// Reads a plastic, smooth or with the given rough coat.
 pub(crate) fn load_plastic(

@@ -24,20 +24,13 @@
 
 use super::params::{conductor_ior, surface, METAL, REFLECTION_FACTOR, ROUGHNESS};
 use super::{Interface, Material};
-use crate::plugin::{Args, Info, Plugin, SceneError, Tag};
+use crate::plugin::{declare, Args, SceneError};
 
-/// The `roughconductor` plugin.
-pub(crate) const PLUGIN: Plugin<Material> = Plugin {
-    info: Info {
-        name: "roughconductor",
-        aliases: &[],
-        tag: Tag::Bsdf,
-        summary: "rough metal: microfacet reflection with measured complex indices",
-        params: &[ROUGHNESS, METAL, REFLECTION_FACTOR],
-        file: file!(),
-    },
-    load,
-};
+declare!(
+    /// The `roughconductor` plugin.
+    pub(crate) PLUGIN: Material = Bsdf "roughconductor" []
+    "rough metal: microfacet reflection with measured complex indices"
+    [ROUGHNESS, METAL, REFLECTION_FACTOR] load);
 
 fn load(a: &mut Args, _: ()) -> Result<Material, SceneError> {
     let ior = conductor_ior(a)?;

@@ -24,20 +24,13 @@
 
 use super::params::{relative_ior, surface, DIELECTRIC_IORS, FACTORS, ROUGHNESS};
 use super::{Interface, Material};
-use crate::plugin::{Args, Info, Plugin, SceneError, Tag};
+use crate::plugin::{declare, Args, SceneError};
 
-/// The `roughdielectric` plugin.
-pub(crate) const PLUGIN: Plugin<Material> = Plugin {
-    info: Info {
-        name: "roughdielectric",
-        aliases: &[],
-        tag: Tag::Bsdf,
-        summary: "rough glass: microfacet reflection and refraction",
-        params: &[ROUGHNESS, DIELECTRIC_IORS, FACTORS],
-        file: file!(),
-    },
-    load,
-};
+declare!(
+    /// The `roughdielectric` plugin.
+    pub(crate) PLUGIN: Material = Bsdf "roughdielectric" []
+    "rough glass: microfacet reflection and refraction"
+    [ROUGHNESS, DIELECTRIC_IORS, FACTORS] load);
 
 fn load(a: &mut Args, _: ()) -> Result<Material, SceneError> {
     let eta = relative_ior(a)?;

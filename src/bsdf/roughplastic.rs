@@ -22,20 +22,13 @@ use super::params::{ALPHA, DISTRIBUTION, SAMPLE_VISIBLE};
 use super::plastic::{load_plastic, PLASTIC};
 use super::Material;
 use crate::bsdf::microfacet::MicrofacetType;
-use crate::plugin::{Args, Info, Plugin, SceneError, Tag};
+use crate::plugin::{declare, Args, SceneError};
 
-/// The `roughplastic` plugin.
-pub(crate) const PLUGIN: Plugin<Material> = Plugin {
-    info: Info {
-        name: "roughplastic",
-        aliases: &[],
-        tag: Tag::Bsdf,
-        summary: "diffuse substrate under a rough dielectric coating",
-        params: &[&[DISTRIBUTION, ALPHA, SAMPLE_VISIBLE], PLASTIC],
-        file: file!(),
-    },
-    load,
-};
+declare!(
+    /// The `roughplastic` plugin.
+    pub(crate) PLUGIN: Material = Bsdf "roughplastic" []
+    "diffuse substrate under a rough dielectric coating"
+    [&[DISTRIBUTION, ALPHA, SAMPLE_VISIBLE], PLASTIC] load);
 
 fn load(a: &mut Args, _: ()) -> Result<Material, SceneError> {
     let kind = match a.string("distribution")?.as_str() {

@@ -37,33 +37,19 @@
 use super::film::{load_film_surface, FILM, THESIS_DIELECTRIC_IORS, THESIS_FILM};
 use super::params::{DIELECTRIC_IORS, FACTORS, ROUGHNESS};
 use super::Material;
-use crate::plugin::{Args, Info, Plugin, SceneError, Tag};
+use crate::plugin::{declare, Args, SceneError};
 
-/// The `roughthinfilm` plugin.
-pub(crate) const PLUGIN: Plugin<Material> = Plugin {
-    info: Info {
-        name: "roughthinfilm",
-        aliases: &[],
-        tag: Tag::Bsdf,
-        summary: "rough dielectric carrying a thin film on every microfacet",
-        params: &[FILM, ROUGHNESS, DIELECTRIC_IORS, FACTORS],
-        file: file!(),
-    },
-    load,
-};
+declare!(
+    /// The `roughthinfilm` plugin.
+    pub(crate) PLUGIN: Material = Bsdf "roughthinfilm" []
+    "rough dielectric carrying a thin film on every microfacet"
+    [FILM, ROUGHNESS, DIELECTRIC_IORS, FACTORS] load);
 
-/// The thesis's `roughdielectricThinFilm`.
-pub(crate) const THESIS_PLUGIN: Plugin<Material> = Plugin {
-    info: Info {
-        name: "roughdielectricThinFilm",
-        aliases: &[],
-        tag: Tag::Bsdf,
-        summary: "the thesis's rough film plugin: `roughthinfilm` with its defaults",
-        params: &[THESIS_FILM, ROUGHNESS, THESIS_DIELECTRIC_IORS, FACTORS],
-        file: file!(),
-    },
-    load,
-};
+declare!(
+    /// The thesis's `roughdielectricThinFilm`.
+    pub(crate) THESIS_PLUGIN: Material = Bsdf "roughdielectricThinFilm" []
+    "the thesis's rough film plugin: `roughthinfilm` with its defaults"
+    [THESIS_FILM, ROUGHNESS, THESIS_DIELECTRIC_IORS, FACTORS] load);
 
 fn load(a: &mut Args, _: ()) -> Result<Material, SceneError> {
     load_film_surface(a, false, true)

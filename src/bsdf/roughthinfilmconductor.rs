@@ -27,20 +27,13 @@
 use super::film::{load_film_surface, FILM, METAL_UNDER_FILM};
 use super::params::{REFLECTION_FACTOR, ROUGHNESS};
 use super::Material;
-use crate::plugin::{Args, Info, Plugin, SceneError, Tag};
+use crate::plugin::{declare, Args, SceneError};
 
-/// The `roughthinfilmconductor` plugin.
-pub(crate) const PLUGIN: Plugin<Material> = Plugin {
-    info: Info {
-        name: "roughthinfilmconductor",
-        aliases: &[],
-        tag: Tag::Bsdf,
-        summary: "a thin film over a rough metal",
-        params: &[FILM, ROUGHNESS, METAL_UNDER_FILM, REFLECTION_FACTOR],
-        file: file!(),
-    },
-    load,
-};
+declare!(
+    /// The `roughthinfilmconductor` plugin.
+    pub(crate) PLUGIN: Material = Bsdf "roughthinfilmconductor" []
+    "a thin film over a rough metal"
+    [FILM, ROUGHNESS, METAL_UNDER_FILM, REFLECTION_FACTOR] load);
 
 fn load(a: &mut Args, _: ()) -> Result<Material, SceneError> {
     load_film_surface(a, true, true)

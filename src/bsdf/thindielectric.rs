@@ -18,20 +18,13 @@
 
 use super::params::{relative_ior, surface, DIELECTRIC_IORS, FACTORS};
 use super::{Interface, Material};
-use crate::plugin::{Args, Info, Plugin, SceneError, Tag};
+use crate::plugin::{declare, Args, SceneError};
 
-/// The `thindielectric` plugin.
-pub(crate) const PLUGIN: Plugin<Material> = Plugin {
-    info: Info {
-        name: "thindielectric",
-        aliases: &[],
-        tag: Tag::Bsdf,
-        summary: "a thin sheet (window pane): two faces, light passes straight on",
-        params: &[DIELECTRIC_IORS, FACTORS],
-        file: file!(),
-    },
-    load,
-};
+declare!(
+    /// The `thindielectric` plugin.
+    pub(crate) PLUGIN: Material = Bsdf "thindielectric" []
+    "a thin sheet (window pane): two faces, light passes straight on"
+    [DIELECTRIC_IORS, FACTORS] load);
 
 fn load(a: &mut Args, _: ()) -> Result<Material, SceneError> {
     let eta = relative_ior(a)?;

@@ -38,33 +38,19 @@
 use super::film::{load_film_surface, FILM, THESIS_DIELECTRIC_IORS, THESIS_FILM};
 use super::params::{DIELECTRIC_IORS, FACTORS};
 use super::Material;
-use crate::plugin::{Args, Info, Plugin, SceneError, Tag};
+use crate::plugin::{declare, Args, SceneError};
 
-/// The `thinfilm` plugin.
-pub(crate) const PLUGIN: Plugin<Material> = Plugin {
-    info: Info {
-        name: "thinfilm",
-        aliases: &[],
-        tag: Tag::Bsdf,
-        summary: "smooth dielectric carrying a thin film (exact interference)",
-        params: &[FILM, DIELECTRIC_IORS, FACTORS],
-        file: file!(),
-    },
-    load,
-};
+declare!(
+    /// The `thinfilm` plugin.
+    pub(crate) PLUGIN: Material = Bsdf "thinfilm" []
+    "smooth dielectric carrying a thin film (exact interference)"
+    [FILM, DIELECTRIC_IORS, FACTORS] load);
 
-/// The thesis's `dielectricThinFilm` (its names and defaults).
-pub(crate) const THESIS_PLUGIN: Plugin<Material> = Plugin {
-    info: Info {
-        name: "dielectricThinFilm",
-        aliases: &[],
-        tag: Tag::Bsdf,
-        summary: "the thesis's smooth film plugin: `thinfilm` with its defaults",
-        params: &[THESIS_FILM, THESIS_DIELECTRIC_IORS, FACTORS],
-        file: file!(),
-    },
-    load,
-};
+declare!(
+    /// The thesis's `dielectricThinFilm` (its names and defaults).
+    pub(crate) THESIS_PLUGIN: Material = Bsdf "dielectricThinFilm" []
+    "the thesis's smooth film plugin: `thinfilm` with its defaults"
+    [THESIS_FILM, THESIS_DIELECTRIC_IORS, FACTORS] load);
 
 fn load(a: &mut Args, _: ()) -> Result<Material, SceneError> {
     load_film_surface(a, false, false)

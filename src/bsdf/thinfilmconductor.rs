@@ -28,33 +28,19 @@
 use super::film::{load_film_surface, FILM, METAL_UNDER_FILM, THESIS_FILM};
 use super::params::REFLECTION_FACTOR;
 use super::Material;
-use crate::plugin::{Args, Info, Plugin, SceneError, Tag};
+use crate::plugin::{declare, Args, SceneError};
 
-/// The `thinfilmconductor` plugin.
-pub(crate) const PLUGIN: Plugin<Material> = Plugin {
-    info: Info {
-        name: "thinfilmconductor",
-        aliases: &[],
-        tag: Tag::Bsdf,
-        summary: "a thin film over a polished metal",
-        params: &[FILM, METAL_UNDER_FILM, REFLECTION_FACTOR],
-        file: file!(),
-    },
-    load,
-};
+declare!(
+    /// The `thinfilmconductor` plugin.
+    pub(crate) PLUGIN: Material = Bsdf "thinfilmconductor" []
+    "a thin film over a polished metal"
+    [FILM, METAL_UNDER_FILM, REFLECTION_FACTOR] load);
 
-/// The thesis's `conductorThinFilm`.
-pub(crate) const THESIS_PLUGIN: Plugin<Material> = Plugin {
-    info: Info {
-        name: "conductorThinFilm",
-        aliases: &[],
-        tag: Tag::Bsdf,
-        summary: "the thesis's film-over-metal plugin: `thinfilmconductor` with its defaults",
-        params: &[THESIS_FILM, METAL_UNDER_FILM, REFLECTION_FACTOR],
-        file: file!(),
-    },
-    load,
-};
+declare!(
+    /// The thesis's `conductorThinFilm`.
+    pub(crate) THESIS_PLUGIN: Material = Bsdf "conductorThinFilm" []
+    "the thesis's film-over-metal plugin: `thinfilmconductor` with its defaults"
+    [THESIS_FILM, METAL_UNDER_FILM, REFLECTION_FACTOR] load);
 
 fn load(a: &mut Args, _: ()) -> Result<Material, SceneError> {
     load_film_surface(a, true, false)

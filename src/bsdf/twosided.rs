@@ -11,21 +11,14 @@
 //! Known limits: none.
 
 use super::Material;
-use crate::plugin::{Args, DefaultValue, Info, Param, Plugin, SceneError, Tag, Ty};
+use crate::plugin::{declare, Args, DefaultValue, Param, SceneError, Tag, Ty};
 
-/// The `twosided` plugin.
-pub(crate) const PLUGIN: Plugin<Material> = Plugin {
-    info: Info {
-        name: "twosided",
-        aliases: &[],
-        tag: Tag::Bsdf,
-        summary: "the same BSDF on both sides, or one per side",
-        params: &[&[Param::new("(nested)", Ty::Bsdf, DefaultValue::Required)
-            .doc("one BSDF for both sides, or two: front, then back")]],
-        file: file!(),
-    },
-    load,
-};
+declare!(
+    /// The `twosided` plugin.
+    pub(crate) PLUGIN: Material = Bsdf "twosided" []
+    "the same BSDF on both sides, or one per side"
+    [&[Param::new("(nested)", Ty::Bsdf, DefaultValue::Required)
+            .doc("one BSDF for both sides, or two: front, then back")]] load);
 
 fn load(a: &mut Args, _: ()) -> Result<Material, SceneError> {
     let inner = a.children(Tag::Bsdf);

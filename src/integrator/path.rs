@@ -11,7 +11,7 @@ use crate::bsdf::{Bsdf, Material, TransportMode};
 use crate::light::LightSampleContext;
 use crate::math::{power_heuristic, Ray, Vec3};
 use crate::sampler::Sampler;
-use crate::scene::Scene;
+use crate::scene::{IntegratorKind, Scene};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use crate::texture::TexCoord;
 
@@ -30,7 +30,8 @@ pub enum PathStrategy {
 /// all but a negligible fraction long before.
 const SAFETY_DEPTH: u32 = 1024;
 
-/// Estimates the radiance arriving along a camera ray at the path's wavelengths.
+/// Estimates the radiance arriving along a camera ray at the path's wavelengths (with the
+/// scene's integrator: `direct` scenes are handed to [`super::direct::radiance`]).
 pub fn radiance(
     scene: &Scene,
     mut ray: Ray,
@@ -39,6 +40,18 @@ pub fn radiance(
     strategy: PathStrategy,
 ) -> SampledSpectrum {
     let settings = &scene.integrator;
+    if let IntegratorKind::Direct {
+        emitter_samples,
+        bsdf_samples,
+    } = settings.kind
+    {
+        let counts = match strategy {
+            PathStrategy::Mis => (emitter_samples, bsdf_samples),
+            PathStrategy::LightOnly => (emitter_samples, 0),
+            PathStrategy::BsdfOnly => (0, bsdf_samples),
+        };
+        return super::direct::radiance(scene, ray, wl, sampler, counts);
+    }
     let max_depth = settings.max_depth.unwrap_or(SAFETY_DEPTH).min(SAFETY_DEPTH);
     let mut l = SampledSpectrum::ZERO;
     let mut beta = SampledSpectrum::ONE;

@@ -12,8 +12,37 @@
 //! Layering: models (`bsdf/`, `texture/`, `shape/`, `light/`) depend on this module and on the
 //! ones below it (`math`, `spectrum`, `optics`); nothing here reads XML, plots or renders.
 
+/// Declares a plugin constant, as one registration line per plugin:
+///
+/// ```ignore
+/// declare!(pub(crate) PLUGIN: Material = Bsdf "dielectric" [] "smooth glass …"
+///     [DIELECTRIC_IORS, FACTORS] load);
+/// ```
+///
+/// — the constant's type (`Material`, or `Texture, Want` for a loader with a request), the
+/// element, the name, its aliases, the one-line summary, the parameter groups and the loader.
+macro_rules! declare {
+    ($(#[$meta:meta])* $vis:vis $id:ident: $t:ty $(, $c:ty)? = $tag:ident $name:literal
+     [$($alias:literal),*] $summary:literal [$($group:expr),* $(,)?] $load:expr) => {
+        $(#[$meta])*
+        $vis const $id: $crate::plugin::Plugin<$t $(, $c)?> = $crate::plugin::Plugin::new(
+            $crate::plugin::Info::new(
+                $crate::plugin::Tag::$tag,
+                $name,
+                $summary,
+                &[$($group),*],
+                file!(),
+            )
+            .aliases(&[$($alias),*]),
+            $load,
+        );
+    };
+}
+pub(crate) use declare;
+
 mod args;
 mod error;
+mod files;
 pub mod manual;
 mod node;
 mod param;
@@ -24,6 +53,7 @@ pub mod values;
 
 pub use args::Args;
 pub use error::SceneError;
+pub use files::FileResolver;
 pub(crate) use node::describe;
 pub use node::{Child, Location, Node, Tag, Warning};
 pub use param::{Check, DefaultValue, Info, Param, Plugin, Ty};

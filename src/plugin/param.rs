@@ -249,6 +249,30 @@ pub struct Info {
 }
 
 impl Info {
+    /// A plugin called `name` appearing as `tag`, declared in `file` (`file!()`), with no aliases.
+    pub const fn new(
+        tag: Tag,
+        name: &'static str,
+        summary: &'static str,
+        params: &'static [&'static [Param]],
+        file: &'static str,
+    ) -> Info {
+        Info {
+            name,
+            aliases: &[],
+            tag,
+            summary,
+            params,
+            file,
+        }
+    }
+
+    /// Other names that load the same plugin.
+    pub const fn aliases(mut self, aliases: &'static [&'static str]) -> Info {
+        self.aliases = aliases;
+        self
+    }
+
     /// The declared parameter under any of its spellings; an indexed declaration `x_i`
     /// matches `x_0`, `x_1`, ….
     pub fn param(&self, name: &str) -> Option<&'static Param> {
@@ -311,4 +335,11 @@ impl Info {
 pub struct Plugin<T: 'static, C: 'static = ()> {
     pub info: Info,
     pub load: fn(&mut Args, C) -> Result<T, SceneError>,
+}
+
+impl<T: 'static, C: 'static> Plugin<T, C> {
+    /// A plugin from its description and loader.
+    pub const fn new(info: Info, load: fn(&mut Args, C) -> Result<T, SceneError>) -> Self {
+        Plugin { info, load }
+    }
 }

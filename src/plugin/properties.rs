@@ -1,8 +1,10 @@
 //! Typed parameter values and the per-object property bag that remembers which were read.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, OnceLock};
 
+use super::files::FileResolver;
 use super::{Location, SceneError};
 use crate::math::{Transform, Vec3};
 
@@ -75,13 +77,16 @@ pub struct Properties {
     /// "bsdf 'diffuse'", for messages.
     owner: String,
     entries: Vec<Entry>,
+    /// The scene's folders for file names, set once the whole scene is read.
+    files: Arc<OnceLock<FileResolver>>,
 }
 
 impl Properties {
-    pub(crate) fn new(owner: String) -> Properties {
+    pub(crate) fn new(owner: String, files: Arc<OnceLock<FileResolver>>) -> Properties {
         Properties {
             owner,
             entries: Vec::new(),
+            files,
         }
     }
 
@@ -282,14 +287,24 @@ impl Properties {
             .unwrap_or_else(|| default.to_string()))
     }
 
-    /// A string naming a file, resolved against the folder of the file that declared it.
+    /// A string naming a file, looked up as Mitsuba 3 does: in the scene's `<path>` folders,
+    /// the scene's folder and the working directory; then, as a last resort, next to the file
+    /// that declared it (see `resolver.rs`). A file found nowhere is named relative to the
+    /// declaring file's folder, for the message.
     pub fn get_path_opt(&self, name: &str) -> Result<Option<PathBuf>, SceneError> {
         let Some(s) = self.get_string_opt(name)? else {
             return Ok(None);
         };
         let loc = self.location(name).cloned().unwrap_or_else(unreachable_loc);
-        let dir = loc.file.parent().map(PathBuf::from).unwrap_or_default();
-        Ok(Some(dir.join(s)))
+        let declared = loc
+            .file
+            .parent()
+            .map(|d| d.join(&s))
+            .unwrap_or_else(|| PathBuf::from(&s));
+        let Some(files) = self.files.get() else {
+            return Ok(Some(declared));
+        };
+        Ok(Some(files.find(Path::new(&s)).unwrap_or(declared)))
     }
 
     /// A point (a `<vector>` is accepted too, as in Mitsuba 3), or `None` if absent.
@@ -344,7 +359,6 @@ fn unreachable_loc() -> Location {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::sync::Arc;
 
     fn loc(line: u32) -> Location {
         Location {
@@ -355,7 +369,7 @@ mod tests {
     }
 
     fn bag() -> Properties {
-        let mut p = Properties::new("shape 'sphere'".into());
+        let mut p = Properties::new("shape 'sphere'".into(), Arc::default());
         let entries = [
             ("radius", Value::Float(2.5)),
             ("count", Value::Integer(7)),
@@ -412,7 +426,7 @@ mod tests {
 
     #[test]
     fn huge_double_is_not_a_float() {
-        let mut p = Properties::new("x".into());
+        let mut p = Properties::new("x".into(), Arc::default());
         p.insert("a".into(), "a".into(), Value::Float(1e300), loc(1))
             .unwrap();
         assert!(p.get_float("a", 0.0).is_err());

@@ -38,6 +38,26 @@ pub fn spectrum_opt(
             }
         }
         Value::Rgb(c) => match kind {
+            // Mitsuba refuses such colours too ("Invalid RGB reflectance value").
+            _ if c.iter().any(|v| *v < 0.0)
+                || (kind == SpectrumKind::Albedo && c.iter().any(|v| *v > 1.0)) =>
+            {
+                let range = if kind == SpectrumKind::Albedo {
+                    "a reflectance in [0, 1]"
+                } else {
+                    "non-negative"
+                };
+                return Err(SceneError::at(
+                    loc,
+                    format!(
+                        "parameter '{name}' of {} is rgb {}, {}, {}; expected each component {range}",
+                        node.describe(),
+                        c[0],
+                        c[1],
+                        c[2]
+                    ),
+                ));
+            }
             SpectrumKind::Albedo => Spectrum::rgb_albedo(*c),
             SpectrumKind::Unbounded => Spectrum::rgb_unbounded(*c),
             SpectrumKind::Illuminant => Spectrum::rgb_illuminant(*c),

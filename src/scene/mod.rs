@@ -14,9 +14,24 @@ use crate::math::{Bounds3, Ray};
 use crate::sampler::SamplerKind;
 use crate::shape::{Hit, Shape, SurfaceInteraction};
 
-/// Path-tracer settings (Mitsuba's `path` integrator).
+/// Which light-transport estimator renders the scene.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum IntegratorKind {
+    /// Mitsuba's `path`: full path tracing.
+    Path,
+    /// Mitsuba's `direct`: emission and direct light at the first surface, with this many
+    /// light and BSDF samples per camera sample.
+    Direct {
+        emitter_samples: u32,
+        bsdf_samples: u32,
+    },
+}
+
+/// Integrator settings (Mitsuba's `path` and `direct`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct IntegratorSettings {
+    /// The estimator.
+    pub kind: IntegratorKind,
     /// Longest path in segments; `None` = unbounded (Russian roulette ends paths).
     pub max_depth: Option<u32>,
     /// Depth from which Russian roulette may end paths.
@@ -28,6 +43,7 @@ pub struct IntegratorSettings {
 impl Default for IntegratorSettings {
     fn default() -> Self {
         IntegratorSettings {
+            kind: IntegratorKind::Path,
             max_depth: None,
             rr_depth: 5,
             hide_emitters: false,
@@ -70,9 +86,7 @@ impl Scene {
     /// Closest hit along the ray.
     #[inline]
     pub fn intersect(&self, ray: &Ray) -> Option<(Hit, SurfaceInteraction)> {
-        let hit = self.bvh.intersect(&self.shapes, ray)?;
-        let si = self.shapes[hit.shape as usize].interaction(&hit, ray);
-        Some((hit, si))
+        self.bvh.intersect_interaction(&self.shapes, ray)
     }
 
     /// Whether anything blocks the ray before `ray.t_max`.

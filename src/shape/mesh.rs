@@ -21,10 +21,14 @@
 //! Intersection", JCGT 2(1), 2013, with an f64 fallback on edges. Zero-area triangles are
 //! dropped at construction ([`TriangleMesh::degenerate_dropped`] counts them).
 //!
-//! Direct sampling picks a triangle in proportion to its area (cumulative table) and a uniform
-//! point on it (Heitz 2019), so the density is 1/area over the whole mesh.
+//! Direct sampling picks a triangle in proportion to its area (an alias table, O(1) per
+//! sample; see [`super::alias`]) and a uniform point on it (Heitz 2019), so the density is
+//! 1/area over the whole mesh. The table (8 bytes per triangle) is built on the first sample,
+//! so meshes that never emit do not pay for it.
+use super::alias::AliasTable;
 use super::{area_to_solid_angle, Hit, ShapeSample, SurfaceInteraction};
 use crate::math::{warp, Bounds3, Frame, Ray, Transform, Vec2, Vec3};
+use std::sync::OnceLock;
 
 /// Invalid mesh data.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -61,8 +65,8 @@ pub struct TriangleMesh {
     uvs: Option<Vec<Vec2>>,
     indices: Vec<[u32; 3]>,
     flip_normals: bool,
-    /// Cumulative triangle areas (last entry = total area).
-    cdf: Vec<f32>,
+    /// Triangles by area, for direct sampling; built on first use.
+    alias: OnceLock<AliasTable>,
     area: f32,
     bounds: Bounds3,
     dropped: usize,
@@ -130,37 +134,37 @@ impl TriangleMesh {
         };
         let swap = to_world.swaps_handedness();
         let given = indices.len();
-        let mut kept = Vec::with_capacity(indices.len());
-        let mut cdf = Vec::with_capacity(indices.len());
+        let mut indices = indices;
         let mut total = 0.0f64;
         let mut bounds = Bounds3::EMPTY;
-        for mut tri in indices {
+        // Filtered in place: a second index array would add 12 bytes per triangle to the peak.
+        indices.retain_mut(|tri| {
             if swap {
                 tri.swap(1, 2);
             }
             let [a, b, c] = tri.map(|k| positions[k as usize]);
             let area = 0.5 * (b - a).cross(c - a).length();
             if !super::positive_finite(area) {
-                continue;
+                return false;
             }
             bounds.grow(a);
             bounds.grow(b);
             bounds.grow(c);
             total += area as f64;
-            cdf.push(total as f32);
-            kept.push(tri);
-        }
-        let dropped = given - kept.len();
-        if kept.is_empty() {
+            true
+        });
+        indices.shrink_to_fit();
+        let dropped = given - indices.len();
+        if indices.is_empty() {
             return Err(MeshError::Empty { dropped });
         }
         Ok(TriangleMesh {
             positions,
             normals,
             uvs,
-            indices: kept,
+            indices,
             flip_normals,
-            cdf,
+            alias: OnceLock::new(),
             area: total as f32,
             bounds,
             dropped,
@@ -231,10 +235,11 @@ impl TriangleMesh {
         self.bounds
     }
 
-    fn uv_corners(&self, tri: [u32; 3]) -> [Vec2; 3] {
-        match &self.uvs {
-            Some(uv) => tri.map(|k| uv[k as usize]),
-            None => [Vec2::ZERO, Vec2::new(1.0, 0.0), Vec2::ONE],
+    /// UVs of a triangle's corners (`tri` is its index triple, needed only with vertex UVs).
+    fn uv_corners(&self, tri: Option<[u32; 3]>) -> [Vec2; 3] {
+        match (&self.uvs, tri) {
+            (Some(uv), Some(tri)) => tri.map(|k| uv[k as usize]),
+            _ => [Vec2::ZERO, Vec2::new(1.0, 0.0), Vec2::ONE],
         }
     }
 
@@ -249,8 +254,14 @@ impl TriangleMesh {
 
     /// Surface geometry at a hit; the point is recomputed from the barycentrics.
     pub fn interaction(&self, hit: &Hit, _ray: &Ray) -> SurfaceInteraction {
-        let tri = self.indices[hit.prim as usize];
-        let p = tri.map(|k| self.positions[k as usize]);
+        self.interaction_at(hit, self.vertices(hit.prim))
+    }
+
+    /// [`Self::interaction`] with the hit triangle's corners `p` at hand (the BVH keeps
+    /// copies); the index triple is read only for vertex normals or UVs.
+    pub fn interaction_at(&self, hit: &Hit, p: [Vec3; 3]) -> SurfaceInteraction {
+        let tri =
+            (self.normals.is_some() || self.uvs.is_some()).then(|| self.indices[hit.prim as usize]);
         let (b1, b2) = (hit.uv.x, hit.uv.y);
         let b0 = 1.0 - b1 - b2;
         let pos = b0 * p[0] + b1 * p[1] + b2 * p[2];
@@ -258,8 +269,8 @@ impl TriangleMesh {
         let uvc = self.uv_corners(tri);
         let uv = b0 * uvc[0] + b1 * uvc[1] + b2 * uvc[2];
         let (dpdu, dpdv) = tangents(&p, &uvc, ng);
-        let ns = match &self.normals {
-            Some(n) => {
+        let ns = match (&self.normals, tri) {
+            (Some(n), Some(tri)) => {
                 let s = b0 * n[tri[0] as usize] + b1 * n[tri[1] as usize] + b2 * n[tri[2] as usize];
                 let s = s.normalize_or_zero();
                 match (s == Vec3::ZERO, self.flip_normals) {
@@ -268,7 +279,7 @@ impl TriangleMesh {
                     (false, false) => s,
                 }
             }
-            None => ng,
+            _ => ng,
         };
         SurfaceInteraction {
             p: pos,
@@ -288,21 +299,27 @@ impl TriangleMesh {
         self.area
     }
 
+    /// Area of triangle `prim`, as the sampling table weighs it.
+    fn triangle_area(&self, prim: usize) -> f64 {
+        let [a, b, c] = self.vertices(prim as u32);
+        0.5 * (b - a).cross(c - a).length() as f64
+    }
+
+    /// The alias table over the triangle areas (built on the first call).
+    fn alias(&self) -> &AliasTable {
+        self.alias.get_or_init(|| {
+            let areas: Vec<f64> = (0..self.indices.len())
+                .map(|i| self.triangle_area(i))
+                .collect();
+            // Construction keeps only triangles of positive finite area, and at least one.
+            AliasTable::new(&areas).expect("a mesh has triangles of positive area")
+        })
+    }
+
     /// Samples a point uniformly by area; density converted to solid angle at `ref_p`.
     pub fn sample_direct(&self, ref_p: Vec3, u: Vec2) -> Option<ShapeSample> {
-        let target = u.x * self.area;
-        let i = self
-            .cdf
-            .partition_point(|&c| c <= target)
-            .min(self.cdf.len() - 1);
-        let lo = if i == 0 { 0.0 } else { self.cdf[i - 1] };
-        let width = self.cdf[i] - lo;
-        // Reuse the remainder of u.x inside the chosen triangle's interval.
-        let ux = if width > 0.0 {
-            ((target - lo) / width).clamp(0.0, crate::math::ONE_MINUS_EPSILON)
-        } else {
-            0.5
-        };
+        // The fraction of u.x left after choosing the triangle positions the point in it.
+        let (i, ux) = self.alias().sample(u.x);
         let b = warp::square_to_uniform_triangle(Vec2::new(ux, u.y));
         let (b0, b1) = (b.x, b.y);
         let b2 = 1.0 - b0 - b1;
@@ -310,7 +327,7 @@ impl TriangleMesh {
         let p = tri.map(|k| self.positions[k as usize]);
         let pos = b0 * p[0] + b1 * p[1] + b2 * p[2];
         let n = self.geometric_normal(&p);
-        let uvc = self.uv_corners(tri);
+        let uvc = self.uv_corners(Some(tri));
         let uv = b0 * uvc[0] + b1 * uvc[1] + b2 * uvc[2];
         let pdf = area_to_solid_angle(1.0 / self.area, ref_p, pos, n);
         if !super::positive_finite(pdf) {
@@ -353,12 +370,14 @@ pub fn intersect_watertight(p0: Vec3, p1: Vec3, p2: Vec3, ray: &Ray) -> Option<(
 /// and shared by every triangle it meets.
 #[derive(Clone, Copy, Debug)]
 pub struct ShearedRay {
-    kx: usize,
-    ky: usize,
-    kz: usize,
-    sx: f32,
-    sy: f32,
-    sz: f32,
+    /// The permuted axes: `kz` is the dominant direction component.
+    pub(crate) kx: usize,
+    pub(crate) ky: usize,
+    pub(crate) kz: usize,
+    /// The shear: d[kx]/d[kz], d[ky]/d[kz] and 1/d[kz].
+    pub(crate) sx: f32,
+    pub(crate) sy: f32,
+    pub(crate) sz: f32,
 }
 
 impl ShearedRay {
@@ -427,10 +446,9 @@ pub fn intersect_watertight_sheared(
     let mut w = bx * ay - by * ax;
     if u == 0.0 || v == 0.0 || w == 0.0 {
         // On an edge f32 rounding decides the sign; redo the edge functions exactly enough.
-        let f = |x: f32, y: f32, z: f32, q: f32| (x as f64 * y as f64 - z as f64 * q as f64) as f32;
-        u = f(cx, by, cy, bx);
-        v = f(ax, cy, ay, cx);
-        w = f(bx, ay, by, ax);
+        u = edge_f64(cx, by, cy, bx);
+        v = edge_f64(ax, cy, ay, cx);
+        w = edge_f64(bx, ay, by, ax);
     }
     if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
         return None;
@@ -475,9 +493,16 @@ pub fn intersect_watertight_sheared(
     Some((t, Vec2::new(v * inv, w * inv)))
 }
 
+/// The edge function x·y − z·q in f64 (exact products), rounded once: the watertight test's
+/// fallback when the f32 value is zero.
+#[inline]
+pub(crate) fn edge_f64(x: f32, y: f32, z: f32, q: f32) -> f32 {
+    (x as f64 * y as f64 - z as f64 * q as f64) as f32
+}
+
 /// Bound on the relative rounding error of n chained f32 operations: nε/(1 − nε).
 #[inline]
-fn gamma(n: i32) -> f32 {
+pub(crate) fn gamma(n: i32) -> f32 {
     let e = f32::EPSILON * 0.5 * n as f32;
     e / (1.0 - e)
 }

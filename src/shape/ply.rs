@@ -243,6 +243,16 @@ pub fn parse_ply(bytes: &[u8], path: &Path) -> Result<MeshData, LoadError> {
                     slot[i.unwrap()] = 6 + k;
                 }
             }
+            if let Some(v) = fast::vertices(&body, el, &slot, has_n, uv.is_some()) {
+                body.pos += v.bytes;
+                match out.positions.is_empty() {
+                    true => out.positions = v.positions,
+                    false => out.positions.extend(v.positions),
+                }
+                out.normals = v.normals;
+                out.uvs = v.uvs;
+                continue;
+            }
             out.positions.reserve_exact(el.count);
             let mut normals = Vec::with_capacity(if has_n { el.count } else { 0 });
             let mut uvs = Vec::with_capacity(if uv.is_some() { el.count } else { 0 });
@@ -289,6 +299,11 @@ pub fn parse_ply(bytes: &[u8], path: &Path) -> Result<MeshData, LoadError> {
                     el.line,
                     "vertex_indices must be a list of integers",
                 ));
+            }
+            if let Some((tris, bytes)) = fast::triangles(&body, el, n_vertices) {
+                body.pos += bytes;
+                out.indices.extend(tris);
+                continue;
             }
             out.indices.reserve(el.count.min(body.remaining()));
             for _ in 0..el.count {
@@ -465,6 +480,9 @@ fn parse_header(bytes: &[u8], path: &Path) -> Result<Header, LoadError> {
     let format = format.ok_or_else(|| syntax(path, line_no, "header has no `format` line"))?;
     Ok((format, elements, pos, line_no))
 }
+
+#[path = "ply_fast.rs"]
+mod fast;
 
 #[cfg(test)]
 #[path = "ply_tests.rs"]

@@ -213,3 +213,85 @@ fn header_and_data_errors_name_file_and_line() {
         "{e}"
     );
 }
+
+/// A random triangle mesh written as binary (vertex x y z nx ny nz u v as floats; faces as a
+/// uchar-counted list of `index_ty`) and as ASCII, which only the general reader reads.
+fn random_mesh(
+    nv: usize,
+    nf: usize,
+    big: bool,
+    index_ty: &str,
+    quad_at: Option<usize>,
+) -> (Vec<u8>, String) {
+    let mut rng = crate::math::Pcg32::new(nv as u64, nf as u64);
+    let fmt = if big {
+        "binary_big_endian"
+    } else {
+        "binary_little_endian"
+    };
+    let head = |f: &str, it: &str| {
+        format!(
+            "ply\nformat {f} 1.0\nelement vertex {nv}\nproperty float x\nproperty float y\n\
+             property float z\nproperty float nx\nproperty float ny\nproperty float nz\n\
+             property float u\nproperty float v\nelement face {nf}\n\
+             property list uchar {it} vertex_indices\nend_header\n"
+        )
+    };
+    let mut b = head(fmt, index_ty).into_bytes();
+    let mut a = head("ascii", index_ty);
+    for _ in 0..nv {
+        for _ in 0..8 {
+            let x = rng.next_f32() * 4.0 - 2.0;
+            b.extend(if big {
+                x.to_be_bytes()
+            } else {
+                x.to_le_bytes()
+            });
+            a.push_str(&format!("{x:?} "));
+        }
+        a.push('\n');
+    }
+    for f in 0..nf {
+        let n = if quad_at == Some(f) { 4 } else { 3 };
+        b.push(n);
+        a.push_str(&format!("{n}"));
+        for _ in 0..n {
+            let i = rng.next_u32() % nv as u32;
+            b.extend(if big {
+                i.to_be_bytes()
+            } else {
+                i.to_le_bytes()
+            });
+            a.push_str(&format!(" {i}"));
+        }
+        a.push('\n');
+    }
+    (b, a)
+}
+
+#[test]
+fn binary_fast_paths_match_the_general_reader() {
+    // Large enough for the parallel decoding; a quad sends the faces to the general reader.
+    for (nv, nf, big, it, quad) in [
+        (40_000, 70_000, false, "int", None),
+        (1_000, 3_000, true, "uint", None),
+        (50_000, 40_000, false, "uint", Some(39_999)),
+        (200, 300, false, "int", Some(0)),
+    ] {
+        let (b, a) = random_mesh(nv, nf, big, it, quad);
+        let fast = parse_ply(&b, Path::new("f.ply")).unwrap();
+        let general = parse_ply(a.as_bytes(), Path::new("a.ply")).unwrap();
+        assert_eq!(fast.indices.len(), nf + quad.is_some() as usize);
+        assert!(fast == general, "{nv} {nf} {big} {it} {quad:?}");
+    }
+    // A bad index in a triangle table is reported by the general reader, at its byte.
+    let (mut b, _) = random_mesh(100, 40_000, false, "int", None);
+    let at = b.len() - 4;
+    b[at..].copy_from_slice(&100i32.to_le_bytes());
+    let e = parse_ply(&b, Path::new("bad.ply")).unwrap_err().to_string();
+    assert!(
+        e.contains("bad.ply") && e.contains("vertex index 100 is out of range"),
+        "{e}"
+    );
+    assert!(e.contains(&format!("byte {}", b.len())), "{e}");
+}

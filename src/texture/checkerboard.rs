@@ -14,16 +14,13 @@
 
 use super::{uv_transform, FloatTexture, SpectrumTexture, Texture, Want};
 use crate::math::{Mat3, Vec2};
-use crate::plugin::{Args, DefaultValue, Info, Param, Plugin, SceneError, SpectrumKind, Tag, Ty};
+use crate::plugin::{declare, Args, DefaultValue, Param, SceneError, SpectrumKind, Ty};
 
-/// The `checkerboard` plugin.
-pub(crate) const PLUGIN: Plugin<Texture, Want> = Plugin {
-    info: Info {
-        name: "checkerboard",
-        aliases: &[],
-        tag: Tag::Texture,
-        summary: "two colours in a checkerboard over UV",
-        params: &[&[
+declare!(
+    /// The `checkerboard` plugin.
+    pub(crate) PLUGIN: Texture, Want = Texture "checkerboard" []
+    "two colours in a checkerboard over UV"
+    [&[
             Param::new(
                 "color0",
                 Ty::Spectrum(SpectrumKind::Albedo),
@@ -38,11 +35,7 @@ pub(crate) const PLUGIN: Plugin<Texture, Want> = Plugin {
             .doc("colour of the other"),
             Param::new("to_uv", Ty::Transform, DefaultValue::Derived("identity"))
                 .doc("applied to the surface UV first"),
-        ]],
-        file: file!(),
-    },
-    load,
-};
+        ]] load);
 
 /// Whether `uv` falls on a `color0` square.
 #[inline]

@@ -23,17 +23,14 @@
 use super::scales::{load_cells, Scales};
 use super::{FloatTexture, Texture, Want};
 use crate::math::Vec2;
-use crate::plugin::{Args, Check, DefaultValue, Info, Param, Plugin, SceneError, Tag, Ty};
+use crate::plugin::{declare, Args, Check, DefaultValue, Param, SceneError, Tag, Ty};
 use std::sync::Arc;
 
-/// The `per_scale` plugin.
-pub(crate) const PLUGIN: Plugin<Texture, Want> = Plugin {
-    info: Info {
-        name: "per_scale",
-        aliases: &[],
-        tag: Tag::Texture,
-        summary: "a number per scale of a `scales` texture (e.g. a film thickness)",
-        params: &[&[
+declare!(
+    /// The `per_scale` plugin.
+    pub(crate) PLUGIN: Texture, Want = Texture "per_scale" []
+    "a number per scale of a `scales` texture (e.g. a film thickness)"
+    [&[
             Param::new("(nested)", Ty::Texture, DefaultValue::Required).doc(
                 "the `scales` texture whose cells are used (nested or `<ref>`; share one with \
                  the bump map so that the values follow the visible scales)",
@@ -45,11 +42,7 @@ pub(crate) const PLUGIN: Plugin<Texture, Want> = Plugin {
             Param::new("spread", Ty::Float, DefaultValue::None)
                 .check(Check::NonNegative)
                 .doc("… and half width: [mean − spread, mean + spread)"),
-        ]],
-        file: file!(),
-    },
-    load,
-};
+        ]] load);
 
 fn load(a: &mut Args, want: Want) -> Result<Texture, SceneError> {
     if want != Want::Float {

@@ -57,69 +57,63 @@
 
 use super::{FloatTexture, NormalSource, SpectrumTexture, Texture, Want};
 use crate::math::Vec2;
-use crate::plugin::{
-    Args, Check, DefaultValue, Info, Param, Plugin, SceneError, SpectrumKind, Tag, Ty,
-};
+use crate::plugin::{declare, Args, Check, DefaultValue, Param, SceneError, SpectrumKind, Ty};
 use std::sync::Arc;
 
-/// The `scales` plugin.
-pub(crate) const PLUGIN: Plugin<Texture, Want> = Plugin {
-    info: Info {
-        name: "scales",
-        aliases: &["reptileSkin", "reptile_skin"],
-        tag: Tag::Texture,
-        summary: "procedural reptile scales: a height, a colour, or normals",
-        params: &[&[
-            Param::float("scale_u", 20.0)
-                .check(Check::OpenClosed(0.0, 1e6))
-                .unit("1/UV")
-                .doc("cells per unit u"),
-            Param::float("scale_v", 20.0)
-                .check(Check::OpenClosed(0.0, 1e6))
-                .unit("1/UV")
-                .doc("rows per unit v"),
-            Param::float("irregularity", 0.3)
-                .check(Check::Range(0.0, 1.0))
-                .doc("0 = regular hexagons … 1 = Voronoi-like jitter"),
-            Param::float("gap", 0.08)
-                .also(&["line_width"])
-                .v06("lineWidth")
-                .check(Check::Range(0.0, 0.5))
-                .unit("cells")
-                .doc("groove width at half height"),
-            Param::float("dome", 0.5)
-                .check(Check::Range(0.0, 1.0))
-                .doc("0 = flat top … 1 = fully rounded"),
-            Param::float("overlap", 0.3)
-                .check(Check::Range(0.0, 1.0))
-                .doc("0 = symmetric … 1 = a ramp rising to the free edge"),
-            Param::float("overlap_angle", 90.0)
-                .unit("degrees")
-                .doc("direction of the free edge in cell space (0 = +u, 90 = +v)"),
-            Param::float("tilt_degrees", 0.0)
-                .check(Check::Range(0.0, 45.0))
-                .unit("degrees")
-                .doc("largest random tilt of a scale's normal"),
-            Param::int("seed", 0)
-                .check(Check::Range(0.0, u32::MAX as f64))
-                .doc("changes the random numbers"),
-            Param::new(
-                "color0",
-                Ty::Spectrum(SpectrumKind::Albedo),
-                DefaultValue::Float(0.4),
-            )
-            .doc("colour of the scales (colour lookups)"),
-            Param::new(
-                "color1",
-                Ty::Spectrum(SpectrumKind::Albedo),
-                DefaultValue::Float(0.1),
-            )
-            .doc("colour of the grooves (colour lookups)"),
-        ]],
-        file: file!(),
-    },
-    load,
-};
+/// The parameters.
+const PARAMS: &[Param] = &[
+    Param::float("scale_u", 20.0)
+        .check(Check::OpenClosed(0.0, 1e6))
+        .unit("1/UV")
+        .doc("cells per unit u"),
+    Param::float("scale_v", 20.0)
+        .check(Check::OpenClosed(0.0, 1e6))
+        .unit("1/UV")
+        .doc("rows per unit v"),
+    Param::float("irregularity", 0.3)
+        .check(Check::Range(0.0, 1.0))
+        .doc("0 = regular hexagons … 1 = Voronoi-like jitter"),
+    Param::float("gap", 0.08)
+        .also(&["line_width"])
+        .v06("lineWidth")
+        .check(Check::Range(0.0, 0.5))
+        .unit("cells")
+        .doc("groove width at half height"),
+    Param::float("dome", 0.5)
+        .check(Check::Range(0.0, 1.0))
+        .doc("0 = flat top … 1 = fully rounded"),
+    Param::float("overlap", 0.3)
+        .check(Check::Range(0.0, 1.0))
+        .doc("0 = symmetric … 1 = a ramp rising to the free edge"),
+    Param::float("overlap_angle", 90.0)
+        .unit("degrees")
+        .doc("direction of the free edge in cell space (0 = +u, 90 = +v)"),
+    Param::float("tilt_degrees", 0.0)
+        .check(Check::Range(0.0, 45.0))
+        .unit("degrees")
+        .doc("largest random tilt of a scale's normal"),
+    Param::int("seed", 0)
+        .check(Check::Range(0.0, u32::MAX as f64))
+        .doc("changes the random numbers"),
+    Param::new(
+        "color0",
+        Ty::Spectrum(SpectrumKind::Albedo),
+        DefaultValue::Float(0.4),
+    )
+    .doc("colour of the scales (colour lookups)"),
+    Param::new(
+        "color1",
+        Ty::Spectrum(SpectrumKind::Albedo),
+        DefaultValue::Float(0.1),
+    )
+    .doc("colour of the grooves (colour lookups)"),
+];
+
+declare!(
+    /// The `scales` plugin.
+    pub(crate) PLUGIN: Texture, Want = Texture "scales" ["reptileSkin", "reptile_skin"]
+    "procedural reptile scales: a height, a colour, or normals"
+    [PARAMS] load);
 
 /// The pattern's parameters.
 pub(crate) fn load_cells(a: &Args) -> Result<Scales, SceneError> {

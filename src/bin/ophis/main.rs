@@ -1,6 +1,7 @@
 //! The `ophis` command line: one subcommand per file beside this one.
 
 mod bsdf;
+mod check;
 mod gallery;
 mod merge;
 mod plugins;
@@ -23,6 +24,9 @@ struct Cli {
 enum Command {
     /// Render a Mitsuba XML scene to EXR (linear sRGB, float32) and PNG (sRGB, 8-bit).
     Render(render::RenderArgs),
+    /// Load a scene as `render` would, print every warning, and exit without rendering
+    /// (status 1 if it does not load).
+    Check(check::CheckArgs),
     /// Reflectance of a thin film against wavelength and angle: CSV, colours, plots.
     Thinfilm(thinfilm::ThinFilmArgs),
     /// Merge renders of one scene made with different seeds (e.g. on several machines) into
@@ -41,6 +45,7 @@ fn main() {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Render(args) => render::run(args),
+        Command::Check(args) => check::run(args),
         Command::Thinfilm(args) => thinfilm::run(args),
         Command::Merge(args) => merge::run(args),
         Command::Bsdf(args) => bsdf::run(args),

@@ -9,7 +9,7 @@ use ophis::image_io::{write_exr, write_png, RgbImage};
 use ophis::integrator::PathStrategy;
 use ophis::merge::{render_metadata, SceneIdentity};
 use ophis::render::{render_with, Progress, RenderControl, RenderOptions, TileOrder};
-use ophis::scene::build::{load_scene, load_scene_str, LoadOptions};
+use ophis::scene::build::{load_scene_into, load_scene_str_into, LoadOptions};
 use ophis::scene::builtin::XENOPELTIS_XML;
 use ophis::scene::mitsuba;
 use std::path::{Path, PathBuf};
@@ -298,17 +298,25 @@ pub fn run(args: RenderArgs) -> Result<()> {
         seed: (args.seed.is_some() || args.resume.is_some()).then_some(plan.info.seed),
         ..Default::default()
     };
-    let (scene, warnings) = if plan.scene == Path::new(BUILTIN) {
+    let mut warnings = Vec::new();
+    let loaded = if plan.scene == Path::new(BUILTIN) {
         if !args.quiet {
             eprintln!("rendering the built-in Xenopeltis scene (scenes/xenopeltis.xml)");
         }
-        load_scene_str(XENOPELTIS_XML, Path::new("xenopeltis.xml"), &load_opts)?
+        load_scene_str_into(
+            XENOPELTIS_XML,
+            Path::new("xenopeltis.xml"),
+            &load_opts,
+            &mut warnings,
+        )
     } else {
-        load_scene(&plan.scene, &load_opts)?
+        load_scene_into(&plan.scene, &load_opts, &mut warnings)
     };
+    // Warnings first, also when loading failed: they often explain the error.
     for w in &warnings {
         eprintln!("warning: {w}");
     }
+    let scene = loaded?;
     let scene_id = identity(&plan.scene, &plan.info.defines)?;
     plan.info.spp = scene.sampler.spp;
     plan.info.seed = scene.sampler.seed;

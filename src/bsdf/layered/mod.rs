@@ -54,7 +54,7 @@ pub use walk::{Medium, Stack, DEFAULT_MAX_DEPTH, MAX_INTERFACES};
 
 use crate::bsdf::material::{LayerMedium, Material};
 use crate::plugin::{
-    Args, Check, DefaultValue, Info, Param, Plugin, SceneError, SpectrumKind, Tag, Ty, Value,
+    declare, Args, Check, DefaultValue, Param, SceneError, SpectrumKind, Tag, Ty, Value,
 };
 use crate::spectrum::SampledSpectrum;
 
@@ -71,14 +71,11 @@ const IGNORED: [&str; 8] = [
     "max_survival_prob",
 ];
 
-/// The `multilayered` plugin.
-pub(crate) const PLUGIN: Plugin<Material> = Plugin {
-    info: Info {
-        name: "multilayered",
-        aliases: &[],
-        tag: Tag::Bsdf,
-        summary: "a stack of interfaces and media, by position-free Monte Carlo",
-        params: &[
+declare!(
+    /// The `multilayered` plugin.
+    pub(crate) PLUGIN: Material = Bsdf "multilayered" []
+    "a stack of interfaces and media, by position-free Monte Carlo"
+    [
             &[
                 Param::new(
                     "nb_layers",
@@ -125,11 +122,7 @@ pub(crate) const PLUGIN: Plugin<Material> = Plugin {
                 Param::new("max_survival_prob", Ty::Float, DefaultValue::None)
                     .doc("(these eight: the thesis's PFMC settings, accepted and ignored)"),
             ],
-        ],
-        file: file!(),
-    },
-    load,
-};
+        ] load);
 
 fn load(a: &mut Args, _: ()) -> Result<Material, SceneError> {
     let node = a.node();

@@ -5,14 +5,19 @@
 //!
 //! - `$name` / `${name}` in any attribute is replaced by a command-line define or a
 //!   `<default name=".." value=".."/>` (defines win; an unknown name is an error);
-//! - `<include filename=".."/>` splices the included scene's children in place (paths relative to
-//!   the including file; cycles are errors);
-//! - `<ref id=".." name=".."/>` and `<alias id=".." as=".."/>` resolve to the same shared
-//!   `Arc<Node>` as the object declared (earlier) with that id;
+//! - `<include filename=".."/>` splices the included scene's children in place (looked up next
+//!   to the including file first; cycles are errors); `<path value=".."/>` adds a folder to
+//!   search; plugin file names are resolved as Mitsuba 3 resolves them (see [`resolver`]);
+//! - `<ref id=".." name=".."/>` resolves to the same shared `Arc<Node>` as the object declared
+//!   with that id, before or after the reference (cycles are errors); `<alias id=".." as=".."/>`
+//!   needs the id declared before it, as in Mitsuba;
+//! - the file may be UTF-8 or UTF-16 with a byte-order mark;
 //! - value tags become [`Value`]s: numbers are parsed strictly, colours decoded, spectra and
 //!   blackbodies parsed, `<transform>` blocks composed into one [`Transform`](crate::math::Transform);
 //! - a scene with `version` < 2.0 has its parameter names turned from camelCase into snake_case
-//!   (`intIOR` → `int_ior`, the original spelling is kept for messages) and `lookAt` into `lookat`.
+//!   (`intIOR` → `int_ior`, the original spelling is kept for messages) and `lookAt` into `lookat`;
+//!   as in Mitsuba 3, a 0.x `diffuse`'s `diffuse_reflectance` becomes `reflectance` and
+//!   `uoffset`/`voffset`/`uscale`/`vscale` become `to_uv`.
 //!
 //! The consumer reads parameters through [`Properties`]' typed getters, which remember what was
 //! read; afterwards [`check_unused`] lists every parameter that nobody asked for.
@@ -37,19 +42,22 @@
 //!
 //! Deliberate differences from Mitsuba 3: unknown tags and attributes are warnings (Mitsuba
 //! stops), except inside `<transform>`, where skipping an operation would silently move geometry;
-//! `<ref>` must follow the object it names; only `<scene>` roots are accepted; numbers beyond
-//! the f32 range are errors; elements may nest at most 100 deep (includes count as a level);
-//! the 0.6 `uoffset`/`uscale` → `to_uv` rewrite is not done (those names stay as written,
-//! snake_cased, and `check_unused` reports them if nobody reads them).
+//! only `<scene>` roots are accepted; numbers beyond
+//! the f32 range are errors; elements may nest at most 100 deep (includes count as a level).
 
+mod arena;
+mod builder;
 mod element;
 mod literal;
 mod reader;
+pub mod resolver;
 mod transform;
 mod value_tags;
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_files;
 #[cfg(test)]
 mod tests_values;
 
@@ -67,11 +75,23 @@ pub fn load_file(
     path: &Path,
     defines: &[(String, String)],
 ) -> Result<(Node, Vec<Warning>), SceneError> {
-    let text = reader::read_text(path).map_err(|source| SceneError::Io {
+    let mut warnings = Vec::new();
+    let root = load_file_into(path, defines, &mut warnings)?;
+    Ok((root, warnings))
+}
+
+/// [`load_file`] that adds its warnings to `warnings` even when it fails, so that a caller
+/// can show the warnings that led up to an error.
+pub fn load_file_into(
+    path: &Path,
+    defines: &[(String, String)],
+    warnings: &mut Vec<Warning>,
+) -> Result<Node, SceneError> {
+    let text = resolver::read_text(path).map_err(|source| SceneError::Io {
         path: path.to_path_buf(),
         source,
     })?;
-    load_str(&text, path, defines)
+    load_str_into(&text, path, defines, warnings)
 }
 
 /// Reads a scene from a string; `file_name` is used in messages and to resolve relative paths.
@@ -80,7 +100,19 @@ pub fn load_str(
     file_name: &Path,
     defines: &[(String, String)],
 ) -> Result<(Node, Vec<Warning>), SceneError> {
-    reader::Reader::new(defines).read_root(xml, file_name)
+    let mut warnings = Vec::new();
+    let root = load_str_into(xml, file_name, defines, &mut warnings)?;
+    Ok((root, warnings))
+}
+
+/// [`load_str`] that adds its warnings to `warnings` even when it fails.
+pub fn load_str_into(
+    xml: &str,
+    file_name: &Path,
+    defines: &[(String, String)],
+    warnings: &mut Vec<Warning>,
+) -> Result<Node, SceneError> {
+    reader::Reader::new(defines).read_root(xml, file_name, warnings)
 }
 
 /// Every parameter of the tree (shared nodes once) that was never queried, in document order,

@@ -1,0 +1,112 @@
+//! Layout: the built tree turned into the arrays traversal reads.
+//!
+//! Interior nodes keep their build order (a node before its subtrees) and their memory: only
+//! their leaf lanes are rewritten, from ref ranges to block references. Leaves are numbered in
+//! depth-first lane order, which is the order of their ref ranges, and each becomes a run of
+//! [`Block`]s holding copies of its triangles' corners, so a leaf test reads contiguous memory
+//! instead of chasing mesh indices. The block array is allocated once at its final size and
+//! filled in parallel, leaf by leaf.
+use super::block::{Block, ANALYTIC, EMPTY};
+use super::build::{Slot, Tree};
+use super::wide::{leaf_ref, Node8, EMPTY_CHILD, MAX_LEAF_BLOCKS};
+use crate::math::Vec3;
+use crate::shape::Shape;
+use rayon::prelude::*;
+
+/// The traversal arrays.
+pub struct Layout {
+    pub nodes: Vec<Node8>,
+    pub blocks: Vec<Block>,
+    /// Child reference of the root ([`EMPTY_CHILD`] for an empty scene).
+    pub root: u32,
+    /// Levels of the 8-wide tree, counting the leaf level (0 when empty).
+    pub depth: usize,
+}
+
+/// Lays out `tree`; `ids` are the lane ids of the reordered refs, `first[s]` the global id of
+/// shape `s`'s first triangle.
+pub fn layout(tree: Tree, ids: &[u32], shapes: &[Shape], first: &[u32]) -> Layout {
+    let mut walk = Walk {
+        tree,
+        leaves: Vec::new(),
+        blocks: 0,
+        depth: 0,
+    };
+    let root = walk.slot_ref(walk.tree.root, 1);
+    let mut blocks = vec![Block::new([(EMPTY, [Vec3::ZERO; 3]); 4]); walk.blocks];
+    // Cut the array into each leaf's run, then fill the runs in parallel.
+    let mut runs = Vec::with_capacity(walk.leaves.len());
+    let mut rest = &mut blocks[..];
+    for &(start, len) in &walk.leaves {
+        let (run, tail) = rest.split_at_mut((len as usize).div_ceil(4));
+        runs.push((run, &ids[start as usize..(start + len) as usize]));
+        rest = tail;
+    }
+    runs.into_par_iter().for_each(|(run, lanes)| {
+        for (b, c) in run.iter_mut().zip(lanes.chunks(4)) {
+            let slot = |l: usize| {
+                let id = c.get(l).copied().unwrap_or(EMPTY);
+                (id, corners(shapes, first, id))
+            };
+            *b = Block::new([slot(0), slot(1), slot(2), slot(3)]);
+        }
+    });
+    Layout {
+        nodes: walk.tree.nodes.node,
+        blocks,
+        root,
+        depth: walk.depth,
+    }
+}
+
+/// The depth-first walk that numbers leaves and rewrites their lanes.
+struct Walk {
+    tree: Tree,
+    /// Ref ranges (start, len) of the leaves in block order.
+    leaves: Vec<(u32, u32)>,
+    /// Blocks used so far.
+    blocks: usize,
+    depth: usize,
+}
+
+impl Walk {
+    /// The child reference for `slot`, rewriting its subtree; `level` is the slot's level.
+    fn slot_ref(&mut self, slot: Slot, level: usize) -> u32 {
+        if slot != Slot::Empty {
+            self.depth = self.depth.max(level);
+        }
+        match slot {
+            Slot::Empty => EMPTY_CHILD,
+            Slot::Leaf { start, len } => {
+                let n = (len as usize).div_ceil(4);
+                assert!(n <= MAX_LEAF_BLOCKS, "leaf of {len} primitives");
+                let r = leaf_ref(self.blocks, n);
+                self.blocks += n;
+                self.leaves.push((start, len));
+                r
+            }
+            Slot::Inner(i) => {
+                for lane in 0..8 {
+                    let s = self.tree.nodes.slot(i as usize, lane);
+                    if s != Slot::Empty {
+                        let child = self.slot_ref(s, level + 1);
+                        self.tree.nodes.node[i as usize].child[lane] = child;
+                    }
+                }
+                i
+            }
+        }
+    }
+}
+
+/// World-space corners of the triangle with lane id `id` (zeros for other lanes).
+fn corners(shapes: &[Shape], first: &[u32], id: u32) -> [Vec3; 3] {
+    if id == EMPTY || id & ANALYTIC != 0 {
+        return [Vec3::ZERO; 3];
+    }
+    let s = first[..shapes.len()].partition_point(|&f| f <= id) - 1;
+    match &shapes[s] {
+        Shape::Mesh(m) => m.vertices(id - first[s]),
+        _ => unreachable!("triangle id {id} maps to an analytic shape"),
+    }
+}

@@ -1,0 +1,197 @@
+//! Single-ray traversal of the 8-wide tree: closest hit and any hit.
+//!
+//! Closest hit: the ray meets a node's eight boxes at once ([`Node8::hit`]); of the children it
+//! enters, the nearest is visited next and the others are pushed far-to-near, so the stack pops
+//! them nearest first; popped entries that start beyond the closest hit so far are skipped. A
+//! node with one child hit pushes nothing. Any hit (shadow rays) skips the sorting and stops at
+//! the first primitive hit. The stack is fixed-size and left uninitialised (no allocation and
+//! no zeroing per ray).
+//!
+//! Everything here is `#[inline(always)]`: [`super::isa`] compiles these functions once per
+//! instruction set inside `#[target_feature]` wrappers.
+use super::block::{Block, RayLanes};
+use super::build::MEDIAN_DEPTH;
+use super::simd::{prefetch, Vec8};
+use super::wide::{leaf_range, Node8, EMPTY_CHILD, LEAF};
+use crate::math::{Ray, Vec2};
+use crate::shape::mesh::ShearedRay;
+use crate::shape::Shape;
+use std::mem::MaybeUninit;
+
+/// Stack entries: a node visit pushes at most seven, and the tree is at most
+/// `MEDIAN_DEPTH + 33` levels deep (median splits halve a range of < 2³² refs).
+pub const STACK: usize = 7 * (MEDIAN_DEPTH + 34);
+
+/// The arrays a traversal reads.
+#[derive(Clone, Copy)]
+pub struct View<'a> {
+    pub nodes: &'a [Node8],
+    pub blocks: &'a [Block],
+    pub root: u32,
+}
+
+impl View<'_> {
+    /// Prefetches the memory of child reference `c`: a node, or a leaf's first block.
+    #[inline(always)]
+    fn prefetch(&self, c: u32) {
+        if c & LEAF != 0 {
+            prefetch(self.blocks.as_ptr().wrapping_add(leaf_range(c).0), 3);
+        } else {
+            prefetch(self.nodes.as_ptr().wrapping_add(c as usize), 4);
+        }
+    }
+}
+
+/// The per-ray constants of the box tests.
+struct BoxRay<V> {
+    o: [V; 3],
+    inv_d: [V; 3],
+}
+
+impl<V: Vec8> BoxRay<V> {
+    #[inline(always)]
+    fn new(ray: &Ray) -> BoxRay<V> {
+        let inv = ray.d.recip();
+        BoxRay {
+            o: [V::splat(ray.o.x), V::splat(ray.o.y), V::splat(ray.o.z)],
+            inv_d: [V::splat(inv.x), V::splat(inv.y), V::splat(inv.z)],
+        }
+    }
+}
+
+/// The closest hit found by a traversal.
+#[derive(Clone, Copy, Debug)]
+pub struct Found {
+    /// Lane id (see [`super::block`]).
+    pub id: u32,
+    pub t: f32,
+    /// Hit coordinates (barycentrics b1, b2 for triangles).
+    pub uv: Vec2,
+    /// Where the primitive's slot is: block index and lane.
+    pub block: u32,
+    pub lane: u32,
+}
+
+/// The closest hit.
+#[inline(always)]
+pub fn closest<V: Vec8>(v: View, shapes: &[Shape], ray: &Ray) -> Option<Found> {
+    if v.root == EMPTY_CHILD {
+        return None;
+    }
+    let sr = ShearedRay::new(ray.d)?;
+    let lanes = RayLanes::new(ray, &sr);
+    let br = BoxRay::<V>::new(ray);
+    let mut r = *ray;
+    let mut best = None;
+    let mut stack = [const { MaybeUninit::<(u32, f32)>::uninit() }; STACK];
+    let mut sp = 0usize;
+    let mut cur = v.root;
+    loop {
+        if cur & LEAF != 0 {
+            let (first, n) = leaf_range(cur);
+            for (k, b) in v.blocks[first..first + n].iter().enumerate() {
+                if let Some((lane, t, uv)) = b.closest(&lanes, &mut r, shapes) {
+                    best = Some(Found {
+                        id: b.ids()[lane],
+                        t,
+                        uv,
+                        block: (first + k) as u32,
+                        lane: lane as u32,
+                    });
+                }
+            }
+        } else {
+            let node = &v.nodes[cur as usize];
+            let (near, mut mask) = node.hit(&br.o, &br.inv_d, r.t_max);
+            let near = near.to_array();
+            if mask != 0 {
+                if mask & (mask - 1) == 0 {
+                    cur = node.child[mask.trailing_zeros() as usize];
+                    continue;
+                }
+                // Sort the children hit by entry distance, far first (t ≥ 0, so its bits order
+                // like the floats); the child reference breaks ties. Their memory is
+                // requested now, so that the loads overlap.
+                let mut keys = [0u64; 8];
+                let mut n = 0;
+                while mask != 0 {
+                    let lane = mask.trailing_zeros() as usize;
+                    mask &= mask - 1;
+                    v.prefetch(node.child[lane]);
+                    let key = ((near[lane].to_bits() as u64) << 32) | node.child[lane] as u64;
+                    let mut j = n;
+                    while j > 0 && keys[j - 1] < key {
+                        keys[j] = keys[j - 1];
+                        j -= 1;
+                    }
+                    keys[j] = key;
+                    n += 1;
+                }
+                for &k in &keys[..n - 1] {
+                    stack[sp].write((k as u32, f32::from_bits((k >> 32) as u32)));
+                    sp += 1;
+                }
+                cur = keys[n - 1] as u32;
+                continue;
+            }
+        }
+        loop {
+            if sp == 0 {
+                return best;
+            }
+            sp -= 1;
+            // SAFETY: slots below the old `sp` were all written by a push.
+            let (c, t) = unsafe { stack[sp].assume_init() };
+            if t <= r.t_max {
+                cur = c;
+                break;
+            }
+        }
+    }
+}
+
+/// Whether anything is hit in (0, ray.t_max).
+#[inline(always)]
+pub fn any<V: Vec8>(v: View, shapes: &[Shape], ray: &Ray) -> bool {
+    if v.root == EMPTY_CHILD {
+        return false;
+    }
+    let Some(sr) = ShearedRay::new(ray.d) else {
+        return false;
+    };
+    let lanes = RayLanes::new(ray, &sr);
+    let br = BoxRay::<V>::new(ray);
+    let mut stack = [const { MaybeUninit::<u32>::uninit() }; STACK];
+    let mut sp = 0usize;
+    let mut cur = v.root;
+    loop {
+        if cur & LEAF != 0 {
+            let (first, n) = leaf_range(cur);
+            for b in &v.blocks[first..first + n] {
+                if b.any(&lanes, ray, shapes) {
+                    return true;
+                }
+            }
+        } else {
+            let node = &v.nodes[cur as usize];
+            let (_, mut mask) = node.hit(&br.o, &br.inv_d, ray.t_max);
+            if mask != 0 {
+                cur = node.child[mask.trailing_zeros() as usize];
+                mask &= mask - 1;
+                while mask != 0 {
+                    v.prefetch(node.child[mask.trailing_zeros() as usize]);
+                    stack[sp].write(node.child[mask.trailing_zeros() as usize]);
+                    sp += 1;
+                    mask &= mask - 1;
+                }
+                continue;
+            }
+        }
+        if sp == 0 {
+            return false;
+        }
+        sp -= 1;
+        // SAFETY: slots below the old `sp` were all written by a push.
+        cur = unsafe { stack[sp].assume_init() };
+    }
+}
