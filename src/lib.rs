@@ -29,8 +29,6 @@ pub mod math;
 pub mod merge;
 /// Wave optics: exact thin-film interference.
 pub mod optics;
-/// Raster plotting for PNG figures: canvas, bitmap font, charts.
-pub mod plot;
 /// Plugins: the scene description they read, their parameter declarations, the registry.
 pub mod plugin;
 /// The render loop over tiles.
@@ -45,5 +43,5 @@ pub mod shape;
 pub mod spectrum;
 /// Textures.
 pub mod texture;
-/// Tools above the renderer: the BSDF inspector behind `ophis bsdf`, quick renders.
+/// Tools above the renderer: the BSDF inspector behind `ophis bsdf`, quick renders, figures.
 pub mod tools;

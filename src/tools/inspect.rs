@@ -5,6 +5,7 @@
 //! Directions follow [`super::testing::direction`]: the incident direction is at polar angle
 //! θi in the plane φ = 0, the outgoing one at (θo, φo); θ < 0 means below the surface.
 
+use super::plot::{color_map, heat, Figure, PlotError, PolarChart};
 use crate::bsdf::testing::{direction, Estimate};
 use crate::bsdf::{Material, TransportMode};
 use crate::math::Pcg32;
@@ -154,15 +155,14 @@ pub fn linear_srgb(m: &Material, q: Quantity, n: usize, seed: u64) -> [Estimate;
 /// Figures of the BSDF at wavelength `lambda`: a polar plot of f·cos θo in the plane of
 /// incidence for θi = 0°, 30°, 60°, 75° (angles > 0 on the mirror side), and an image of f·cos θo
 /// over the hemisphere (disc of sin θo, seen from above) for incidence at `theta_i`.
-/// `samples` is spent over all points; returns (polar, hemisphere) canvases.
+/// `samples` is spent over all points; returns the (polar, hemisphere) figures.
 pub fn plots(
     m: &Material,
     lambda: f32,
     theta_i: f32,
     samples: usize,
     seed: u64,
-) -> (crate::plot::Canvas, crate::plot::Canvas) {
-    use crate::plot::{color_map, heat, PolarChart};
+) -> Result<(Figure, Figure), PlotError> {
     let per_point = (samples / 360).max(8);
     let mut chart = PolarChart::new(
         &format!("BSDF lobes in the plane of incidence, {lambda} nm"),
@@ -189,7 +189,7 @@ pub fn plots(
             .collect();
         chart.add(&format!("θi = {ti}°"), pts);
     }
-    let polar = chart.render(720, 460);
+    let polar = chart.render(720, 460)?;
     let res = 64usize;
     let mut img = crate::image_io::RgbImage::new(res, res);
     let mut vals = vec![f32::NAN; res * res];
@@ -231,7 +231,7 @@ pub fn plots(
             [1.0; 3]
         };
     }
-    let hemi = color_map(
+    let (hemi, _) = color_map(
         &img,
         (-1.0, 1.0),
         (-1.0, 1.0),
@@ -240,8 +240,8 @@ pub fn plots(
         "sin θo sin φo",
         520,
         520,
-    );
-    (polar, hemi)
+    )?;
+    Ok((polar, hemi))
 }
 
 #[cfg(test)]
@@ -271,5 +271,31 @@ mod tests {
             3,
         );
         assert!((f.mean - 0.5 / std::f64::consts::PI).abs() < 1e-6);
+    }
+
+    #[test]
+    fn plots_draw_the_lobes_and_the_hemisphere() {
+        let m = Material::diffuse(SpectrumTexture::Constant(Spectrum::Constant(1.0)));
+        let (polar, hemi) = plots(&m, 550.0, 30.0, 2000, 1).unwrap();
+        assert_eq!((polar.width(), polar.height()), (720, 460));
+        assert_eq!((hemi.width(), hemi.height()), (520, 520));
+        let count = |f: &Figure, c: [u8; 3]| {
+            (0..f.height() as i64)
+                .flat_map(|y| (0..f.width() as i64).map(move |x| (x, y)))
+                .filter(|&(x, y)| f.pixel(x, y) == Some(c))
+                .count()
+        };
+        // A Lambertian lobe does not depend on θi: the four coincide and the last one drawn
+        // covers the others, which show in the legend.
+        let palette = &super::super::plot::PALETTE;
+        for (k, c) in palette[..4].iter().enumerate() {
+            let n = count(&polar, [c.0, c.1, c.2]);
+            assert!(n >= 40 && (k < 3 || n > 400), "lobe {k}: {n} pixels");
+        }
+        // A Lambertian f·cos θo peaks at the normal: the centre of the disc has the ramp's top
+        // colour, and the corners outside the disc stay white.
+        let top = heat(1.0, 1.0).map(|v| (crate::image_io::linear_to_srgb(v) * 255.0).round() as u8);
+        assert!(count(&hemi, top) > 20);
+        assert!(count(&hemi, [255; 3]) > 520 * 520 / 10);
     }
 }

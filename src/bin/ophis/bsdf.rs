@@ -126,7 +126,7 @@ pub fn run(args: BsdfArgs) -> Result<()> {
     }
     if let Some(path) = &args.plot {
         let lambda = args.lambda.first().copied().unwrap_or(550.0);
-        let (polar, hemi) = plots(&material, lambda, args.theta_i, args.samples, args.seed);
+        let (polar, hemi) = plots(&material, lambda, args.theta_i, args.samples, args.seed)?;
         let stem = path.with_extension("");
         let hemi_path = PathBuf::from(format!("{}-hemisphere.png", stem.display()));
         let polar_path = stem.with_extension("png");

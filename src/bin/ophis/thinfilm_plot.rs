@@ -1,11 +1,11 @@
 //! The figures of `ophis thinfilm`: R(λ) curves per angle (`--plot`) and the thickness × angle
-//! colour chart (`--chart`), drawn with `ophis::plot`.
+//! colour chart (`--chart`), drawn with `ophis::tools::plot`.
 
 use anyhow::{anyhow, Context, Result};
 use ophis::image_io::RgbImage;
 use ophis::optics::filmstack::FilmStack;
 use ophis::optics::filmtool::rt_deg;
-use ophis::plot::{color_map, LineChart};
+use ophis::tools::plot::{color_map, LineChart};
 use std::path::Path;
 
 /// "n 1 | 1.56:900 | 1.5": outside medium, layers outside in, base.
@@ -47,7 +47,7 @@ pub fn plot(
         .flat_map(|s| s.points.iter().map(|p| p.1))
         .fold(0.0f64, f64::max);
     ch.y_range = Some((0.0, if y_max > 0.0 { y_max * 1.05 } else { 1.0 }));
-    ch.render(900, 560)
+    ch.render(900, 560)?
         .save_png(path)
         .with_context(|| format!("writing {}", path.display()))
 }
@@ -65,7 +65,7 @@ pub fn chart(st: &FilmStack, range: (f64, f64), from_inside: bool, path: &Path) 
         height: h,
         data,
     };
-    color_map(
+    let (fig, _) = color_map(
         &img,
         range,
         (0.0, 90.0),
@@ -78,7 +78,7 @@ pub fn chart(st: &FilmStack, range: (f64, f64), from_inside: bool, path: &Path) 
         "angle (deg)",
         900,
         420,
-    )
-    .save_png(path)
-    .with_context(|| format!("writing {}", path.display()))
+    )?;
+    fig.save_png(path)
+        .with_context(|| format!("writing {}", path.display()))
 }

@@ -8,8 +8,8 @@
 //! Every cell is rendered with the same seed, so a sheet is reproducible.
 
 use ophis::image_io::ImageError;
-use ophis::plot::contact_sheet;
 use ophis::scene::mitsuba::SceneError;
+use ophis::tools::plot::{contact_sheet, Figure, PlotError};
 use ophis::tools::preview::render_file;
 use std::path::{Path, PathBuf};
 
@@ -20,6 +20,8 @@ pub enum GalleryError {
     Scene(#[from] SceneError),
     #[error("{0}")]
     Image(#[from] ImageError),
+    #[error("{0}")]
+    Plot(#[from] PlotError),
     #[error("{what}: {source}")]
     Io {
         what: String,
@@ -246,7 +248,7 @@ pub fn render_sheet(
     scenes: &Path,
     q: Quality,
     log: &mut dyn FnMut(&str),
-) -> Result<ophis::plot::Canvas, GalleryError> {
+) -> Result<Figure, GalleryError> {
     let n = sheet.rows.len() * sheet.cols.len();
     let mut cells = Vec::with_capacity(sheet.rows.len());
     for r in 0..sheet.rows.len() {
@@ -272,7 +274,14 @@ pub fn render_sheet(
     }
     let rl: Vec<String> = sheet.rows.iter().map(|a| a.label.clone()).collect();
     let cl: Vec<String> = sheet.cols.iter().map(|a| a.label.clone()).collect();
-    Ok(contact_sheet(&cells, &rl, &cl, sheet.title, q.cell, q.cell))
+    Ok(contact_sheet(
+        &cells,
+        &rl,
+        &cl,
+        sheet.title,
+        q.cell,
+        q.cell,
+    )?)
 }
 
 /// Renders the sheets named in `only` (all when empty) into `out/NAME.png`; returns the paths.
