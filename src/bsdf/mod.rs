@@ -288,6 +288,54 @@ impl Bxdf {
         }
     }
 
+    /// `sample_f` with the choice between reflection and transmission scaled by `t_weight`
+    /// (the microfacet dielectrics, see [`rough`]; the others ignore it). Used by layered
+    /// stacks whose transmitted light is mostly absorbed below.
+    pub fn sample_f_weighted(
+        &self,
+        wo: Vec3,
+        uc: f32,
+        u: Vec2,
+        mode: TransportMode,
+        t_weight: f32,
+    ) -> Option<BsdfSample> {
+        match self {
+            Bxdf::RoughDielectric(b) => b.sample_f_weighted(wo, uc, u, mode, t_weight),
+            Bxdf::RoughThinFilm(b) => b.sample_f_weighted(wo, uc, u, mode, t_weight),
+            Bxdf::RoughFilmStack(b) => b.sample_f_weighted(wo, uc, u, mode, t_weight),
+            _ => self.sample_f(wo, uc, u, mode),
+        }
+    }
+
+    /// The density of [`Bxdf::sample_f_weighted`], with its probability of reflection at the
+    /// pair's microfacet where it has one (`None` for the BSDFs that ignore `t_weight`).
+    pub fn pdf_weighted(
+        &self,
+        wo: Vec3,
+        wi: Vec3,
+        mode: TransportMode,
+        t_weight: f32,
+    ) -> (f32, Option<f32>) {
+        let (pdf, p) = match self {
+            Bxdf::RoughDielectric(b) => b.pdf_weighted(wo, wi, t_weight),
+            Bxdf::RoughThinFilm(b) => b.pdf_weighted(wo, wi, t_weight),
+            Bxdf::RoughFilmStack(b) => b.pdf_weighted(wo, wi, t_weight),
+            _ => return (self.pdf(wo, wi, mode), None),
+        };
+        (pdf, Some(p))
+    }
+
+    /// The relative index a transmissive microfacet interface refracts into (`None` for the
+    /// other BSDFs).
+    pub fn rough_eta(&self) -> Option<f32> {
+        match self {
+            Bxdf::RoughDielectric(b) => b.eta(),
+            Bxdf::RoughThinFilm(b) => b.eta(),
+            Bxdf::RoughFilmStack(b) => b.eta(),
+            _ => None,
+        }
+    }
+
     /// Solid-angle density with which `sample_f` picks `wi` (non-delta lobes only).
     pub fn pdf(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> f32 {
         match self {

@@ -10,7 +10,10 @@
 //! (1 − F) D G |wi·wm| |wo·wm| / (|cos θo cos θi| (wi·wm + wo·wm/η')²), divided by η'² in
 //! radiance mode only. Sampling picks reflection with the term's probability P(wo·wm) (for a
 //! dielectric F itself), so that the importance-mode weight is G/G1(wo) ≤ 1, and `pdf`
-//! includes that choice. Terms whose light is absorbed (metals) only reflect and are
+//! includes that choice. A caller that knows the transmitted light is worth less than that
+//! (a coat over a dark base) can scale the choice with [`Rough::sample_f_weighted`]: reflection
+//! with P′ = P / (P + (1 − P) t), the density changing with it, so the estimate stays
+//! unbiased for every t > 0. Terms whose light is absorbed (metals) only reflect and are
 //! one-sided. Known limits: single scattering between microfacets (energy is lost at high
 //! roughness); refraction needs a real relative index.
 
@@ -67,6 +70,17 @@ fn reflection_half(wo: Vec3, wi: Vec3) -> Option<Vec3> {
     (wm.length_squared() > 0.0).then(|| wm.normalize())
 }
 
+/// The probability of choosing reflection when the term's own probability is `p` and
+/// transmission is weighted by `t_weight` > 0 (exactly `p` for a weight of 1).
+#[inline]
+pub fn weighted_choice(p: f32, t_weight: f32) -> f32 {
+    if t_weight == 1.0 {
+        p
+    } else {
+        p / (p + (1.0 - p) * t_weight)
+    }
+}
+
 impl<F: Fresnel> Rough<F> {
     /// A rough surface.
     pub fn new(
@@ -84,7 +98,7 @@ impl<F: Fresnel> Rough<F> {
     }
 
     /// The relative index light refracts into, or `None` for a reflector.
-    fn eta(&self) -> Option<f32> {
+    pub(crate) fn eta(&self) -> Option<f32> {
         match self.fresnel.transmission() {
             Transmission::Refract { eta } => Some(eta),
             _ => None,
@@ -129,29 +143,50 @@ impl<F: Fresnel> Rough<F> {
 
     /// Solid-angle density with which `sample_f` picks `wi`.
     pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+        self.pdf_weighted(wo, wi, 1.0).0
+    }
+
+    /// Solid-angle density with which [`Rough::sample_f_weighted`] picks `wi`, and its
+    /// probability of reflection at the pair's microfacet (1 for a reflector).
+    pub fn pdf_weighted(&self, wo: Vec3, wi: Vec3, t_weight: f32) -> (f32, f32) {
         let Some(eta) = self.eta() else {
             let Some(wm) = reflection_half(wo, wi) else {
-                return 0.0;
+                return (0.0, 1.0);
             };
             // Jacobian of the reflection map wm → wi: 1 / (4 |wo·wm|).
-            return self.distrib.pdf(wo, wm) / (4.0 * wo.dot(wm));
+            return (self.distrib.pdf(wo, wm) / (4.0 * wo.dot(wm)), 1.0);
         };
         let Some((wm, etap, is_reflection)) = half_vector(wo, wi, eta) else {
-            return 0.0;
+            return (0.0, 0.5);
         };
         let (_, p) = self.fresnel.microfacet(wo, wi, wm);
+        let p = weighted_choice(p, t_weight);
         let pm = self.distrib.pdf(wo, wm);
-        if is_reflection {
+        let pdf = if is_reflection {
             pm / (4.0 * wo.dot(wm).abs()) * p
         } else {
             // Jacobian of the refraction map wm → wi (Walter et al. 2007, eq. 17).
             let denom = (wi.dot(wm) + wo.dot(wm) / etap).powi(2);
             pm * wi.dot(wm).abs() / denom * (1.0 - p)
-        }
+        };
+        (pdf, p)
     }
 
     /// Samples a visible microfacet normal, then reflection or refraction about it.
     pub fn sample_f(&self, wo: Vec3, uc: f32, u: Vec2, mode: TransportMode) -> Option<BsdfSample> {
+        self.sample_f_weighted(wo, uc, u, mode, 1.0)
+    }
+
+    /// [`Rough::sample_f`] with the choice between reflection and refraction scaled by
+    /// `t_weight` > 0 (see the module doc); 1 is `sample_f` itself.
+    pub fn sample_f_weighted(
+        &self,
+        wo: Vec3,
+        uc: f32,
+        u: Vec2,
+        mode: TransportMode,
+        t_weight: f32,
+    ) -> Option<BsdfSample> {
         if wo.z == 0.0 || !wo.z.is_finite() {
             return None;
         }
@@ -170,7 +205,7 @@ impl<F: Fresnel> Rough<F> {
                 let wm = self.distrib.sample_wm(wo, u);
                 let cos_om = wo.dot(wm);
                 let (_, p) = self.fresnel.reflectance(cos_om);
-                let (wi, flags, etap) = if uc < p {
+                let (wi, flags, etap) = if uc < weighted_choice(p, t_weight) {
                     (reflect(wo, wm), BxdfFlags::GLOSSY_REFLECTION, 1.0)
                 } else {
                     // Refract about the microfacet normal on wo's side.
@@ -189,7 +224,7 @@ impl<F: Fresnel> Rough<F> {
             }
         };
         // Evaluate from wi so that sampling and evaluation agree to the last bit.
-        let pdf = self.pdf(wo, wi);
+        let pdf = self.pdf_weighted(wo, wi, t_weight).0;
         if pdf.is_nan() || pdf <= 0.0 {
             return None;
         }

@@ -14,9 +14,9 @@
 //! - [`reciprocity_error`]: f(a, b) in radiance mode against f(b, a) in importance mode (the
 //!   adjoint BSDF), which for reflection is plain reciprocity and for refraction includes η².
 
-use super::{Bxdf, TransportMode};
-use crate::math::{warp, Pcg32, Vec3, PI};
-use crate::spectrum::N;
+use super::{BsdfSample, Bxdf, TransportMode};
+use crate::math::{warp, Pcg32, Vec2, Vec3, PI};
+use crate::spectrum::{SampledSpectrum, N};
 
 /// Parameters of a χ² test.
 #[derive(Clone, Copy, Debug)]
@@ -84,7 +84,26 @@ pub fn chi2_test_against(
     mode: TransportMode,
     cfg: &Chi2Config,
 ) -> Result<Chi2Outcome, String> {
-    let bxdf = sampler;
+    chi2_test_fns(
+        |uc, u| sampler.sample_f(wo, uc, u, mode),
+        |wi| sampler.pdf(wo, wi, mode),
+        |wi| sampler.f(wo, wi, mode),
+        |wi| density.pdf(wo, wi, mode),
+        cfg,
+    )
+}
+
+/// The χ² test on functions: `sample` draws a direction from (uc, u), `pdf` and `f` are what
+/// the sampler claims to have used (checked sample by sample unless the sample's pdf is only
+/// proportional), and `density` is integrated over the bins for the expected counts (e.g. a
+/// sampler that takes extra parameters, as `Bxdf::sample_f_weighted`).
+pub fn chi2_test_fns(
+    mut sample: impl FnMut(f32, Vec2) -> Option<BsdfSample>,
+    pdf: impl Fn(Vec3) -> f32,
+    f: impl Fn(Vec3) -> SampledSpectrum,
+    density: impl Fn(Vec3) -> f32,
+    cfg: &Chi2Config,
+) -> Result<Chi2Outcome, String> {
     let (nc, np) = (cfg.cos_bins, cfg.phi_bins);
     let mut obs = vec![0.0f64; nc * np];
     let mut rng = Pcg32::new(cfg.seed, 0x5eed);
@@ -92,7 +111,7 @@ pub fn chi2_test_against(
     for _ in 0..cfg.samples {
         let uc = rng.next_f32();
         let u = rng.next_vec2();
-        let Some(bs) = bxdf.sample_f(wo, uc, u, mode) else {
+        let Some(bs) = sample(uc, u) else {
             n_fail += 1;
             continue;
         };
@@ -109,13 +128,12 @@ pub fn chi2_test_against(
         if !bs.pdf_is_proportional {
             // Sampling and evaluation are the same formulas in f32; 1e-3 relative covers the
             // rounding of recomputing the half vector.
-            let pdf = bxdf.pdf(wo, bs.wi, mode);
-            let f = bxdf.f(wo, bs.wi, mode);
+            let (p, fv) = (pdf(bs.wi), f(bs.wi));
             let close = |a: f32, b: f32| (a - b).abs() <= 1e-3 * a.abs().max(b.abs()) + 1e-12;
-            if !close(pdf, bs.pdf) || (0..N).any(|i| !close(f[i], bs.f[i])) {
+            if !close(p, bs.pdf) || (0..N).any(|i| !close(fv[i], bs.f[i])) {
                 return Err(format!(
                     "sample_f disagrees with f/pdf at wi {:?}: pdf {} vs {}, f {:?} vs {:?}",
-                    bs.wi, bs.pdf, pdf, bs.f, f
+                    bs.wi, bs.pdf, p, bs.f, fv
                 ));
             }
         }
@@ -135,7 +153,7 @@ pub fn chi2_test_against(
             let mut g = |c: f64, p: f64| {
                 let s = (1.0 - c * c).max(0.0).sqrt();
                 let w = Vec3::new((s * p.cos()) as f32, (s * p.sin()) as f32, c as f32);
-                density.pdf(wo, w, mode) as f64
+                density(w) as f64
             };
             exp[ic * np + ip] = n * integrate_cell(&mut g, c0, c1, p0, p1, tol);
         }

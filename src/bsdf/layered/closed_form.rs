@@ -20,8 +20,11 @@
 //! f is symmetric, so radiance and importance modes agree.
 //!
 //! Sampling (exact pdf, §3.3 with the λ-averaged coat): the delta lobe with probability
-//! F̄(μo) (mean over the path's wavelengths, weight F_λ/F̄); otherwise a direction with density
-//! p(ωi) = (1 − F̄(μo)) T̄(μi) μi / (π K), K = ∫₀¹ 2μ T̄(μ) dμ, T̄ = 1 − F̄, drawn by cosine
+//! P = F̄(μo)/R̄(μo), its share of the directional albedo (means over the path's wavelengths,
+//! weight F_λ/P), so that over a dark base the visible reflection gets the samples (choosing
+//! it with F̄ alone gave it ~4 % of them, and a constant sky seen in it a relative variance of
+//! ~1/F̄ per sample); otherwise a direction with density
+//! p(ωi) = (1 − P) T̄(μi) μi / (π K), K = ∫₀¹ 2μ T̄(μ) dμ, T̄ = 1 − F̄, drawn by cosine
 //! sampling and accepting with probability T̄(μi) (acceptance ≈ 0.9 for η = 1.5).
 //!
 //! Integrals: Gauss–Legendre in the cosine with the substitution μ = μc + (1 − μc)s² past the
@@ -424,9 +427,13 @@ impl CoatedDiffuse {
     /// Directional albedo R(μ) including the delta reflection.
     pub fn albedo(&self, mu: f32) -> SampledSpectrum {
         let f = self.coat.outside(mu);
-        let diff = (SampledSpectrum::ONE - f) * self.slab(mu) * self.rho * self.escape
-            / (SampledSpectrum::ONE - self.rho * self.ret);
-        f + diff
+        f + self.diffuse_albedo(f, mu)
+    }
+
+    /// The diffuse part's share of the albedo at μ, given the coat's reflectance `f` there.
+    fn diffuse_albedo(&self, f: SampledSpectrum, mu: f32) -> SampledSpectrum {
+        (SampledSpectrum::ONE - f) * self.slab(mu) * self.rho * self.escape
+            / (SampledSpectrum::ONE - self.rho * self.ret)
     }
 
     /// The diffuse part of the BSDF (no cosine).
@@ -439,12 +446,25 @@ impl CoatedDiffuse {
         t_o * t_i * self.slab(wo.z) * self.slab(wi.z) * self.diffuse_scale()
     }
 
+    /// The probability of the delta lobe at μo: F̄/R̄ (module doc), F̄ itself where the
+    /// albedo is not positive.
+    fn spec_choice(&self, f_o: SampledSpectrum, mu: f32) -> f32 {
+        let f = f_o.average();
+        let r = f + self.diffuse_albedo(f_o, mu).average();
+        let p = if r > 0.0 { f / r } else { f };
+        if p.is_finite() {
+            p.clamp(0.0, 1.0)
+        } else {
+            f
+        }
+    }
+
     /// Exact density of the non-delta samples.
     pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
         if wo.z <= 0.0 || wi.z <= 0.0 || self.k_norm <= 0.0 {
             return 0.0;
         }
-        let p_spec = self.coat.outside(wo.z).average();
+        let p_spec = self.spec_choice(self.coat.outside(wo.z), wo.z);
         let t_bar = 1.0 - self.coat.outside(wi.z).average();
         (1.0 - p_spec) * t_bar * wi.z * INV_PI / self.k_norm
     }
@@ -455,7 +475,7 @@ impl CoatedDiffuse {
             return None;
         }
         let f_o = self.coat.outside(wo.z);
-        let p_spec = f_o.average();
+        let p_spec = self.spec_choice(f_o, wo.z);
         if uc < p_spec {
             let wi = Vec3::new(-wo.x, -wo.y, wo.z);
             return Some(BsdfSample::new(

@@ -30,8 +30,11 @@
 //!   density comes from `pdf`), except for all-delta paths (the coat's specular reflection),
 //!   which are returned as delta samples.
 //! - `f`: an unbiased stochastic estimate; `pdf`: for reflection, ½ entrance-interface pdf +
-//!   ½ cosine (only the cosine when the entrance is smooth); for a stack that transmits, half
-//!   of the mass goes to a cosine lobe below. Exact for the closed form.
+//!   ½ cosine (only the cosine when the entrance is smooth); where the walk reweights its
+//!   first choice (a rough coat over a dark base, `Stack::entrance_weight`), the coat's pdf
+//!   with that choice plus the rest of the mass as a cosine lobe; for a stack that transmits,
+//!   half of the mass goes to a cosine lobe below. Exact for the closed form. Any positive
+//!   density gives unbiased MIS; a closer one gives better weights.
 //! - Random numbers: the walk is the one stochastic BSDF, so it is the one that draws random
 //!   numbers. It draws them from a generator seeded by a hash of the seed it was built with
 //!   (one per path vertex, from the integrator) and of the directions it is asked about, so `f`
@@ -40,8 +43,11 @@
 //!   every shading point builds the stack in one heap allocation (the `Bxdf::Layered` box).
 
 pub mod closed_form;
+mod entrance;
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_entrance;
 #[cfg(test)]
 mod tests_walk;
 pub mod walk;
@@ -366,7 +372,16 @@ impl LayeredBxdf {
                     s.interfaces().len() - 1
                 };
                 let b = &s.interfaces()[ent];
-                let p = if b.flags().is_non_specular() {
+                let tw = s.entrance_weight();
+                let p = if ent == 0 && tw != 1.0 {
+                    // The walk's first choice (`Stack::entrance_weight`): the coat's
+                    // reflection with its probability P′ at this pair's microfacet, and
+                    // roughly cosine-distributed light from below with the rest.
+                    match b.pdf_weighted(wo, wi, mode, tw) {
+                        (pg, Some(pr)) => pg + (1.0 - pr) * cos,
+                        (pg, None) => 0.5 * pg + 0.5 * cos,
+                    }
+                } else if b.flags().is_non_specular() {
                     0.5 * b.pdf(wo, wi, mode) + 0.5 * cos
                 } else {
                     cos

@@ -89,6 +89,11 @@ fn point_values_and_pdf_match_research_table() {
         (45.0, 45.0, 0.223548),
         (30.0, 60.0, 0.152982),
     ] {
+        // The table's density picks the delta lobe with F̄(μo); the sampler picks it with
+        // F̄/R̄ (its share of the albedo), which scales the diffuse density by (1 − F̄/R̄)/(1 − F̄).
+        let mu = direction(ti, 0.0).z;
+        let fr = crate::bsdf::fresnel::fresnel_dielectric(mu, 1.5);
+        let want = want * (1.0 - fr / c0.albedo(mu)[0]) / (1.0 - fr);
         let p = c0.pdf(direction(ti, 0.0), direction(to, 1.0));
         assert!((p - want).abs() < 2e-5, "pdf({ti},{to}) {p} vs {want}");
     }

@@ -21,6 +21,8 @@
 //!   β p_HG β_L / |u_z| (β_L is the chain's adjoint weight). When the chain is the exit interface
 //!   alone and that interface is not smooth, the walk's own directions that reach the exit are
 //!   counted as well, and both strategies are weighted by the power heuristic.
+//! - The first choice from above weights the coat's transmission by the share of it that comes
+//!   back out (`super::entrance`), so a glossy coat over a dark base samples its reflection.
 //! - Distance sampling in spectral media picks one wavelength's σt uniformly per flight and
 //!   weights by the mixture density (the balance heuristic over wavelengths), so weights stay
 //!   bounded by N·albedo.
@@ -92,6 +94,8 @@ pub struct Stack {
     media: [Medium; MAX_INTERFACES - 1],
     n: usize,
     max_depth: u32,
+    /// Transmission weight of the first choice from above (see [`Stack::entrance_weight`]).
+    t_weight: f32,
 }
 
 /// Outcome of a flight across a layer.
@@ -195,6 +199,7 @@ impl Stack {
         if !(2..=MAX_INTERFACES).contains(&n) || media.len() != n - 1 {
             return None;
         }
+        let t_weight = super::entrance::return_estimate(&interfaces, n, media);
         Some(Stack {
             interfaces,
             media: std::array::from_fn(|i| {
@@ -205,7 +210,22 @@ impl Stack {
             }),
             n,
             max_depth: max_depth.max(1),
+            t_weight,
         })
+    }
+
+    /// The weight of transmission against reflection in the top interface's first choice from
+    /// above (`super::entrance`): 1, the interface's own choice, unless the stack is a rough
+    /// coat over a Lambertian base; any value in (0, 1] keeps the walk unbiased.
+    pub fn entrance_weight(&self) -> f32 {
+        self.t_weight
+    }
+
+    /// The same stack with another entrance weight (tests compare it against the plain walk).
+    #[cfg(test)]
+    pub(super) fn with_entrance_weight(mut self, t_weight: f32) -> Stack {
+        self.t_weight = t_weight;
+        self
     }
 
     /// The interfaces, top first.
@@ -289,7 +309,12 @@ impl Stack {
             } else {
                 (rng.next_f32(), rng.next_vec2())
             };
-            let bs = self.interfaces[k].sample_f(w_o, uc_k, u_k, mode)?;
+            let b = &self.interfaces[k];
+            let bs = if depth == 0 && k == 0 {
+                b.sample_f_weighted(w_o, uc_k, u_k, mode, self.t_weight)?
+            } else {
+                b.sample_f(w_o, uc_k, u_k, mode)?
+            };
             if (bs.pdf.is_nan() || bs.pdf <= 0.0) || bs.wi.z == 0.0 {
                 return None;
             }
