@@ -229,7 +229,11 @@ fn stack_table_plot_and_chart() {
             .iter()
             .filter(|c| c[0].max(c[1]).max(c[2]) - c[0].min(c[1]).min(c[2]) > 0.1)
             .count();
-        assert!(coloured > 1000, "{}: {coloured} coloured pixels", p.display());
+        assert!(
+            coloured > 1000,
+            "{}: {coloured} coloured pixels",
+            p.display()
+        );
     }
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -186,6 +186,14 @@ fn errors_name_file_line_and_column() {
         4,
         "unobtainium",
     );
+    // A 3.x scene with too few layers, counted in 0.6's camelCase (read only in 0.x scenes).
+    assert_error_at(
+        "<scene version=\"3.0.0\">\n<shape type=\"sphere\">\n<bsdf type=\"multilayered\">\n\
+         <integer name=\"nbLayers\" value=\"2\"/>\n<bsdf type=\"diffuse\" name=\"surface_0\"/>\n\
+         </bsdf></shape>\n</scene>",
+        3,
+        "'nbLayers' is Mitsuba 0.6's spelling",
+    );
 }
 
 #[test]

@@ -29,7 +29,7 @@ use std::sync::Arc;
 declare!(
     /// The `bitmap` plugin.
     pub(crate) PLUGIN: Texture, Want = Texture "bitmap" []
-    "an image: EXR, Radiance HDR or PNG"
+    "an image: EXR, Radiance HDR, PNG or JPEG"
     [&[
             Param::new("filename", Ty::String, DefaultValue::Required)
                 .doc("the image (PNG and JPEG are sRGB-decoded)"),

@@ -294,7 +294,8 @@ mod tests {
         }
         // A Lambertian f·cos θo peaks at the normal: the centre of the disc has the ramp's top
         // colour, and the corners outside the disc stay white.
-        let top = heat(1.0, 1.0).map(|v| (crate::image_io::linear_to_srgb(v) * 255.0).round() as u8);
+        let top =
+            heat(1.0, 1.0).map(|v| (crate::image_io::linear_to_srgb(v) * 255.0).round() as u8);
         assert!(count(&hemi, top) > 20);
         assert!(count(&hemi, [255; 3]) > 520 * 520 / 10);
     }

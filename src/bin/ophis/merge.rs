@@ -37,7 +37,7 @@ pub fn run(args: MergeArgs) -> Result<()> {
     }
     let merged = merge(&inputs).map_err(anyhow::Error::msg)?;
     for w in &merged.warnings {
-        eprintln!("warning: {w}");
+        eprintln!("{w}");
     }
     let meta = merged.metadata;
     write_exr(&args.output, &merged.image, &meta)

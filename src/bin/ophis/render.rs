@@ -314,7 +314,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
     };
     // Warnings first, also when loading failed: they often explain the error.
     for w in &warnings {
-        eprintln!("warning: {w}");
+        eprintln!("{w}");
     }
     let scene = loaded?;
     let scene_id = identity(&plan.scene, &plan.info.defines)?;

@@ -135,7 +135,27 @@ fn load(a: &mut Args, _: ()) -> Result<Material, SceneError> {
     let named = (0..)
         .take_while(|i| node.child(&format!("surface_{i}")).is_some())
         .count() as i64;
-    let n = a.int_opt("nb_layers")?.unwrap_or(named);
+    let n = match a.int_opt("nb_layers")? {
+        Some(n) => n,
+        None if !(2..=MAX_INTERFACES as i64).contains(&named) => {
+            // A 3.x scene that spells it the 0.6 way gets told why it was not read.
+            let hint = if node.props.location("nbLayers").is_some() {
+                "; 'nbLayers' is Mitsuba 0.6's spelling, read only in scenes of version 0.x \
+                 (write 'nb_layers')"
+            } else {
+                ""
+            };
+            return Err(SceneError::at(
+                &node.loc,
+                format!(
+                    "{} has {named} nested bsdfs named surface_0, surface_1, …; it needs \
+                     between 2 and {MAX_INTERFACES}{hint}",
+                    a.describe()
+                ),
+            ));
+        }
+        None => named,
+    };
     if !(2..=MAX_INTERFACES as i64).contains(&n) {
         return Err(a.error(
             "nb_layers",

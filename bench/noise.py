@@ -1,0 +1,115 @@
+#!/usr/bin/env python3
+"""Time to equal noise: samplers and settings of one scene compared side by side in one run.
+
+For each configuration (a sampler type, optionally more `-D` values), the scene is rendered twice
+with different seeds; the two images are independent estimates of the same image, so half the
+mean squared difference of the pair estimates each one's variance, with no converged reference:
+
+    relVar = mean over pixels and channels of (a − b)² / 2 / (((a + b) / 2)² + ε),  ε = 1e-2
+
+The efficiency is 1 / (relVar × render seconds); the script prints each configuration's
+samples per second, relVar × spp (noise per sample; lower is better), and its efficiency
+relative to the first configuration, which is how much faster it reaches equal noise (median
+and range over `--repeats` pairs).
+
+usage: python3 bench/noise.py [SCENE.xml] [--res 320x180] [--spp 32] [--repeats 2]
+           [--config independent --config stratified --config "stratified:rr=1" ...]
+A configuration is SAMPLER[:NAME=VALUE,...]; the sampler is set through --sampler ophis's
+command line does not have, so the scene must read `$sampler` (the built-in scene does).
+Without SCENE the built-in scene (scenes/xenopeltis.xml) is used.
+"""
+import argparse
+import os
+import re
+import statistics
+import subprocess
+import sys
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+OUT = os.path.join(ROOT, "target", "bench", "noise")
+sys.path.insert(0, os.path.join(ROOT, "tools"))
+
+
+def read_rgb(path):
+    import numpy as np
+    from exr_read import read_exr
+    ch, _ = read_exr(path)
+    return np.stack([ch["R"], ch["G"], ch["B"]], axis=-1).astype(np.float64)
+
+
+def render(scene, res, spp, seed, defines, out):
+    exe = os.path.join(ROOT, "target", "release", "ophis")
+    w, h = res
+    cmd = [exe, "render"] + ([scene] if scene else []) + [
+        f"-Dwidth={w}", f"-Dheight={h}", f"-Dres={w}", "--spp", str(spp), "--seed", str(seed),
+        "-o", out, "--quiet"]
+    cmd += [f"-D{k}={v}" for k, v in defines.items()]
+    p = subprocess.run(cmd, capture_output=True, text=True)
+    if p.returncode != 0:
+        sys.exit("ophis failed:\n" + p.stderr)
+    m = re.search(r"spp, ([0-9.]+) s,", p.stderr)
+    return float(m.group(1))
+
+
+def spread(xs, fmt="{:.3g}"):
+    med = statistics.median(xs)
+    if len(xs) == 1:
+        return fmt.format(med)
+    return (fmt + " ({}–{})").format(med, fmt.format(min(xs)), fmt.format(max(xs)))
+
+
+def main():
+    ap = argparse.ArgumentParser(description="time to equal noise")
+    ap.add_argument("scene", nargs="?")
+    ap.add_argument("--res", default="320x180")
+    ap.add_argument("--spp", type=int, default=32)
+    ap.add_argument("--repeats", type=int, default=2)
+    ap.add_argument("--eps", type=float, default=1e-2)
+    ap.add_argument("--config", action="append")
+    ap.add_argument("--no-build", action="store_true")
+    a = ap.parse_args()
+    import numpy as np
+    configs = a.config or ["independent", "stratified"]
+    res = tuple(int(v) for v in a.res.split("x"))
+    os.makedirs(OUT, exist_ok=True)
+    if not a.no_build:
+        subprocess.run(["cargo", "build", "--release", "--quiet", "--bin", "ophis"], cwd=ROOT, check=True)
+    parsed = []
+    for c in configs:
+        sampler, _, rest = c.partition(":")
+        d = {"sampler": sampler}
+        for kv in filter(None, rest.split(",")):
+            k, _, v = kv.partition("=")
+            d[k] = v
+        parsed.append((c, d))
+    samples = res[0] * res[1] * a.spp
+    print(f"{time.strftime('%Y-%m-%d')}: {a.scene or 'built-in scene'}, {res[0]}x{res[1]}, {a.spp} spp, "
+          f"{os.cpu_count()} cores, {a.repeats} pairs per configuration: median (min–max)")
+    stats = {c: {"t": [], "rv": []} for c, _ in parsed}
+    for r in range(a.repeats):
+        for c, d in parsed:  # interleaved, so that load changes hit every configuration alike
+            imgs, ts = [], []
+            for k in range(2):
+                out = os.path.join(OUT, f"n{len(stats[c]['t'])}-{k}.exr")
+                ts.append(render(a.scene, res, a.spp, 1 + 2 * r + k, d, out))
+                imgs.append(read_rgb(out))
+            x, y = imgs
+            m = 0.5 * (x + y)
+            rv = float(np.mean((x - y) ** 2 / 2.0 / (m * m + a.eps)))
+            stats[c]["t"].append(sum(ts) / 2)
+            stats[c]["rv"].append(rv)
+    base = configs[0]
+    print(f"  {'configuration':<32} {'render s':>20} {'Msamples/s':>20} {'relVar × spp':>24} "
+          f"{'equal-noise speed-up':>24}")
+    for c, _ in parsed:
+        t, rv = stats[c]["t"], stats[c]["rv"]
+        eff = [1.0 / (tb * rb) for tb, rb in zip(t, rv)]
+        base_eff = [1.0 / (tb * rb) for tb, rb in zip(stats[base]["t"], stats[base]["rv"])]
+        gain = [e / b for e, b in zip(eff, base_eff)]
+        print(f"  {c:<32} {spread(t):>20} {spread([samples / s / 1e6 for s in t]):>20} "
+              f"{spread([v * a.spp for v in rv]):>24} {spread(gain):>24}")
+
+
+if __name__ == "__main__":
+    main()
