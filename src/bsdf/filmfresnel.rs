@@ -22,7 +22,7 @@
 //! From inside a dielectric base (cos θ < 0) the light meets the same film from the other side:
 //! n0 = interior, n2 = exterior.
 
-use crate::optics::thinfilm::film_rt;
+use crate::optics::thinfilm::film_r;
 use crate::spectrum::rgb2spec::rgb_to_sigmoid;
 use crate::spectrum::{SampledSpectrum, N};
 use num_complex::Complex64 as C;
@@ -83,15 +83,14 @@ fn exact(ext: f32, film: f32, n: f32, k: f32, d: f32, lambda: f32, cos0: f32) ->
     } else {
         (n as f64, C::new(ext as f64, 0.0))
     };
-    let r = film_rt(
+    let r = film_r(
         (cos0 as f64).abs(),
         n0,
         C::new(film as f64, 0.0),
         d as f64,
         n2,
         lambda as f64,
-    )
-    .r();
+    );
     if r.is_finite() {
         r.clamp(0.0, 1.0)
     } else {
