@@ -20,6 +20,8 @@ pub const KEY_SPP: &str = "ophis.spp";
 pub const KEY_TILE_SPP: &str = "ophis.tile_spp";
 /// Metadata key of the seed.
 pub const KEY_SEED: &str = "ophis.seed";
+/// Header key listing the AOV channels of an `aov` render (which merging would drop).
+pub const KEY_AOVS: &str = "ophis.aovs";
 
 /// Run-length encodes a list of per-tile counts.
 pub fn encode_tile_spp(counts: &[u64]) -> String {
@@ -133,6 +135,14 @@ pub fn merge(inputs: &[MergeInput]) -> Result<(RgbImage, Vec<(String, String)>),
                 inp.name, inp.image.width, inp.image.height, first.name
             ));
         }
+        if let Some(list) = meta(&inp.metadata, KEY_AOVS) {
+            return Err(format!(
+                "{} carries AOV channels ({list}); ophis merge combines only R, G and B and would \
+                 drop them: merge renders of the scene without its aov integrator, or render \
+                 the AOVs once at the full sample count",
+                inp.name
+            ));
+        }
         let c = pixel_counts(inp)?;
         for (i, (s, px)) in sum.iter_mut().zip(&inp.image.data).enumerate() {
             for (acc, v) in s.iter_mut().zip(px) {
@@ -239,5 +249,15 @@ mod tests {
         };
         let e = merge(&[a2, c]).unwrap_err();
         assert!(e.contains("same resolution"), "{e}");
+        let with_aovs = MergeInput {
+            name: "aov.exr".into(),
+            image: img(1.0, 2),
+            metadata: vec![
+                (KEY_SAMPLES.into(), "2".into()),
+                (KEY_AOVS.into(), "dd.T".into()),
+            ],
+        };
+        let e = merge(&[with_aovs]).unwrap_err();
+        assert!(e.contains("aov.exr carries AOV channels (dd.T)"), "{e}");
     }
 }

@@ -1,5 +1,6 @@
 //! Light-transport integrators.
 
+pub mod aov;
 pub mod path;
 
 pub use path::{radiance, PathStrategy};

@@ -5,12 +5,13 @@ use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
 use std::sync::Arc;
 
 pub mod bitmap;
+pub mod head_shields;
 pub mod per_scale;
 pub mod scales;
 
 pub use bitmap::Bitmap;
 pub use per_scale::PerScale;
-pub use scales::Scales;
+pub use scales::{Layout, Scales};
 
 /// Where a texture is looked up.
 #[derive(Clone, Copy, Debug, Default)]

@@ -27,6 +27,12 @@
 //! seam at u = 0 ≡ 1 shows no seam; across v the rows also alternate, so v wraps cleanly only for
 //! an even integer `scale_v`.
 //!
+//! Layouts (`layout`): `hex`, the offset rows above (dorsal scales); `rows`, rows without the
+//! half-cell shift and jittered only along v (with `scale_u` = 1 each row is one plate spanning
+//! u ∈ [0, 1]: the ventral plates of the `snake` shape's belly); `head`, the head shields of
+//! `head_shields.rs` — fixed Voronoi seeds on the head map, `scale_u` and `scale_v` stretching the
+//! map (1 = as laid out) and `irregularity` unused.
+//!
 //! Filtering: there are no ray differentials yet. `sample_filtered` takes a footprint (the width
 //! a pixel covers, in cells): the groove is widened to at least a quarter of it, and between a
 //! footprint of ½ and 2 cells the relief fades to its mean, so scales smaller than a pixel fade
@@ -44,6 +50,7 @@
 //! | `overlap_angle`| float  | 90      | degrees | direction of the free edge in cell space (0 = +u, 90 = +v) |
 //! | `tilt_degrees` | float  | 0       | degrees | largest random tilt of a scale's normal          |
 //! | `seed`         | integer| 0       | —       | changes the random numbers                       |
+//! | `layout`       | string | `hex`   | —       | `hex`, `rows` (ventral plates) or `head` (head shields) |
 //! | `color0`       | colour | 0.4     | —       | colour of the scales (colour lookups)            |
 //! | `color1`       | colour | 0.1     | —       | colour of the grooves (colour lookups)           |
 //!
@@ -53,7 +60,39 @@
 //! Limits: the footprint estimate ignores anisotropy beyond the larger axis; cells are defined in
 //! UV space, so a parametrisation that stretches UV stretches the scales.
 
+use super::head_shields::{self, HEAD_CELLS};
 use crate::math::Vec2;
+use std::sync::OnceLock;
+
+/// How cells are laid out (see the module header).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Layout {
+    /// Offset rows of hexagons.
+    #[default]
+    Hex,
+    /// Aligned rows (ventral plates).
+    Rows,
+    /// The head shields.
+    Head,
+}
+
+impl Layout {
+    /// Parses the XML name.
+    pub fn from_name(s: &str) -> Option<Layout> {
+        Some(match s {
+            "hex" => Layout::Hex,
+            "rows" => Layout::Rows,
+            "head" => Layout::Head,
+            _ => return None,
+        })
+    }
+}
+
+/// The head layout's seeds in map coordinates, computed once.
+fn head_seeds() -> &'static [Vec2] {
+    static SEEDS: OnceLock<Vec<Vec2>> = OnceLock::new();
+    SEEDS.get_or_init(head_shields::seeds)
+}
 
 /// Parameters of the scale pattern (see the module header).
 #[derive(Clone, Debug, PartialEq)]
@@ -69,6 +108,7 @@ pub struct Scales {
     /// Largest tilt of a scale's normal, radians.
     pub tilt: f32,
     pub seed: u32,
+    pub layout: Layout,
 }
 
 impl Default for Scales {
@@ -83,6 +123,7 @@ impl Default for Scales {
             overlap_dir: Vec2::new(0.0, 1.0),
             tilt: 0.0,
             seed: 0,
+            layout: Layout::Hex,
         }
     }
 }
@@ -161,19 +202,35 @@ impl Scales {
     /// How many cells a UV footprint (widths along u and v) spans, along its larger axis.
     #[inline]
     pub fn cells_across(&self, footprint: Vec2) -> f32 {
-        (footprint.x * self.scale_u).max(footprint.y * self.scale_v)
+        let k = self.cells_per_uv();
+        (footprint.x * k.x).max(footprint.y * k.y)
+    }
+
+    /// Cell-space units per UV unit along u and v.
+    #[inline]
+    fn cells_per_uv(&self) -> Vec2 {
+        let k = Vec2::new(self.scale_u, self.scale_v);
+        if self.layout == Layout::Head {
+            k * HEAD_CELLS
+        } else {
+            k
+        }
     }
 
     /// Cell space coordinates of a UV point.
     #[inline]
     pub fn to_cell_space(&self, uv: Vec2) -> Vec2 {
-        Vec2::new(uv.x * self.scale_u, uv.y * self.scale_v)
+        uv * self.cells_per_uv()
     }
 
     /// The wrapped lattice index and its hash.
     #[inline]
     fn cell_hash(&self, i: i32, j: i32) -> ((i32, i32), u32) {
-        let (pu, pv) = (period(self.scale_u), period(self.scale_v));
+        let (pu, pv) = match self.layout {
+            // Head shields are numbered, not a lattice: nothing wraps.
+            Layout::Head => (0, 0),
+            _ => (period(self.scale_u), period(self.scale_v)),
+        };
         let wi = if pu > 0 { i.rem_euclid(pu) } else { i };
         let wj = if pv > 0 { j.rem_euclid(pv) } else { j };
         let h = mix(wi as u32 ^ mix(wj as u32 ^ mix(self.seed.wrapping_add(0x9e37_79b9))));
@@ -183,12 +240,43 @@ impl Scales {
     /// Centre of lattice cell (i, j) in cell space (unwrapped, near the query point).
     #[inline]
     fn center(&self, i: i32, j: i32) -> (Vec2, u32, (i32, i32)) {
+        if self.layout == Layout::Head {
+            // i indexes the seeds; unused indices lie far away and never win.
+            let (_, h) = self.cell_hash(i, 0);
+            let c = match head_seeds().get(i as usize) {
+                Some(s) if i >= 0 => self.to_cell_space(*s),
+                _ => Vec2::splat(1e6),
+            };
+            return (c, h, (i, 0));
+        }
         let (cell, h) = self.cell_hash(i, j);
-        let jx = unit(mix(h ^ 0x68e3_1da4)) - 0.5;
+        let mut jx = unit(mix(h ^ 0x68e3_1da4)) - 0.5;
         let jy = unit(mix(h ^ 0xb529_7a4d)) - 0.5;
-        let shift = if j.rem_euclid(2) == 1 { 0.5 } else { 0.0 };
+        let mut shift = if j.rem_euclid(2) == 1 { 0.5 } else { 0.0 };
+        if self.layout == Layout::Rows {
+            // Plates stay aligned across the row: only their length varies.
+            (jx, shift) = (0.0, 0.0);
+        }
         let c = Vec2::new(i as f32 + shift, j as f32) + self.irregularity * Vec2::new(jx, jy);
         (c, h, cell)
+    }
+
+    /// Calls `f` with every cell that may be nearest to lattice cell (ci, cj) or border it: with
+    /// jitter ≤ ½ per axis these lie within two rows and columns; the head's few seeds are all
+    /// candidates.
+    #[inline]
+    fn candidates(&self, ci: i32, cj: i32, mut f: impl FnMut(i32, i32)) {
+        if self.layout == Layout::Head {
+            for i in 0..head_seeds().len() as i32 {
+                f(i, 0);
+            }
+            return;
+        }
+        for j in cj - 2..=cj + 2 {
+            for i in ci - 2..=ci + 2 {
+                f(i, j);
+            }
+        }
     }
 
     /// The pattern at a UV point, unfiltered.
@@ -199,41 +287,39 @@ impl Scales {
     /// The pattern at a UV point seen through a footprint `width` cells wide.
     pub fn sample_filtered(&self, uv: Vec2, width: f32) -> ScaleSample {
         let p = self.to_cell_space(uv);
+        // Candidate cells: with jitter ≤ ½ per axis the nearest lattice centre lies within two
+        // rows and columns (and its neighbours within two of it); the head has few seeds, all
+        // of which are candidates.
         let (j0, i0) = (p.y.round() as i32, p.x.floor() as i32);
-        // Nearest centre: with jitter ≤ ½ per axis, it lies within two rows and columns.
         let mut best = (f32::INFINITY, Vec2::ZERO, 0u32, (0, 0), (0, 0));
-        for j in j0 - 2..=j0 + 2 {
-            for i in i0 - 2..=i0 + 2 {
-                let (c, h, cell) = self.center(i, j);
-                let d2 = (p - c).length_squared();
-                if d2 < best.0 {
-                    best = (d2, c, h, cell, (i, j));
-                }
+        self.candidates(i0, j0, |i, j| {
+            let (c, h, cell) = self.center(i, j);
+            let d2 = (p - c).length_squared();
+            if d2 < best.0 {
+                best = (d2, c, h, cell, (i, j));
             }
-        }
+        });
         let (_, c0, h0, cell, (bi, bj)) = best;
         // Distance to the cell edge: the nearest bisector with a neighbour, with the corners
         // rounded (a smooth minimum) so that the groove has no creases for the bump map to show.
         let round = 0.5 * self.gap;
         let (mut edge, mut second) = (f32::INFINITY, f32::INFINITY);
-        for j in bj - 2..=bj + 2 {
-            for i in bi - 2..=bi + 2 {
-                if (i, j) == (bi, bj) {
-                    continue;
-                }
-                let (c, _, _) = self.center(i, j);
-                let d = c - c0;
-                let len = d.length();
-                if len > 1e-6 {
-                    let e = (0.5 * (c0 + c) - p).dot(d / len);
-                    if e < edge {
-                        (edge, second) = (e, edge);
-                    } else if e < second {
-                        second = e;
-                    }
+        self.candidates(bi, bj, |i, j| {
+            if (i, j) == (bi, bj) {
+                return;
+            }
+            let (c, _, _) = self.center(i, j);
+            let d = c - c0;
+            let len = d.length();
+            if len > 1e-6 {
+                let e = (0.5 * (c0 + c) - p).dot(d / len);
+                if e < edge {
+                    (edge, second) = (e, edge);
+                } else if e < second {
+                    second = e;
                 }
             }
-        }
+        });
         // Only the two nearest edges meet at a corner of the cell; taking just those keeps the
         // result independent of the order the neighbours were visited in.
         let edge = smooth_min(edge, second, round).max(0.0);
@@ -267,8 +353,8 @@ impl Scales {
     /// Gradient of the height with respect to (u, v), by central differences a thousandth of a
     /// cell wide (the relief is C¹, so the difference converges).
     pub fn gradient(&self, uv: Vec2, width: f32) -> Vec2 {
-        let hu = 1e-3 / self.scale_u;
-        let hv = 1e-3 / self.scale_v;
+        let k = self.cells_per_uv();
+        let (hu, hv) = (1e-3 / k.x, 1e-3 / k.y);
         let du = self.height(uv + Vec2::new(hu, 0.0), width)
             - self.height(uv - Vec2::new(hu, 0.0), width);
         let dv = self.height(uv + Vec2::new(0.0, hv), width)

@@ -9,7 +9,7 @@ use crate::bsdf::Material;
 use crate::math::Vec2;
 use crate::scene::mitsuba::{Node, SceneError, Tag, Warning};
 use crate::spectrum::Spectrum;
-use crate::texture::{FloatTexture, PerScale, Scales, SpectrumTexture};
+use crate::texture::{FloatTexture, Layout, PerScale, Scales, SpectrumTexture};
 use std::sync::Arc;
 
 /// Whether a texture plugin name is the scale pattern.
@@ -76,6 +76,15 @@ pub(crate) fn scales(tex: &Node) -> Result<Scales, SceneError> {
         overlap_dir: Vec2::new(angle.cos(), angle.sin()),
         tilt: tilt.to_radians(),
         seed: checked_int(tex, "seed", 0, 0, u32::MAX as i64)? as u32,
+        layout: {
+            let name = tex.props.get_string("layout", "hex")?;
+            Layout::from_name(&name).ok_or_else(|| {
+                SceneError::at(
+                    tex.props.location("layout").unwrap_or(&tex.loc),
+                    format!("layout must be hex, rows or head; got '{name}'"),
+                )
+            })?
+        },
     })
 }
 
