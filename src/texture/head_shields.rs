@@ -59,7 +59,7 @@ const SUPRALABIAL_OFFSET: f32 = 0.295;
 const INFRALABIAL_OFFSET: f32 = 0.405;
 /// Offset of the seeds beyond the lower lip (their bisector with the infralabials is the map's
 /// edge, where the belly part begins).
-const BEYOND_LIP: f32 = 0.595;
+const BEYOND_LIP: f32 = 1.0 - INFRALABIAL_OFFSET;
 
 /// All seeds in map coordinates (u, v); the first `shields()` are the head's own shields.
 pub fn seeds() -> Vec<Vec2> {
@@ -80,8 +80,9 @@ pub fn seeds() -> Vec<Vec2> {
     for &(du, v) in BORDER_SEEDS {
         both(du, v);
     }
+    // Mirror images of the infralabials across the map's edge u = 0 (and 1).
     for k in 0..LABIALS {
-        both(BEYOND_LIP, (k as f32 + 0.6) / LABIALS as f32);
+        both(BEYOND_LIP, (k as f32 + 0.3) / LABIALS as f32);
     }
     out
 }

@@ -254,8 +254,9 @@ impl Scales {
         let jy = unit(mix(h ^ 0xb529_7a4d)) - 0.5;
         let mut shift = if j.rem_euclid(2) == 1 { 0.5 } else { 0.0 };
         if self.layout == Layout::Rows {
-            // Plates stay aligned across the row: only their length varies.
-            (jx, shift) = (0.0, 0.0);
+            // Plates stay aligned across the row (centred on half-integers, so that with
+            // `scale_u` = 1 a plate spans u ∈ [0, 1]): only their length varies.
+            (jx, shift) = (0.0, 0.5);
         }
         let c = Vec2::new(i as f32 + shift, j as f32) + self.irregularity * Vec2::new(jx, jy);
         (c, h, cell)

@@ -236,3 +236,80 @@ fn tilts_stay_in_their_cone_and_vary_per_cell() {
         mean / s.tilt
     );
 }
+
+#[test]
+fn rows_layout_makes_one_plate_across_u_with_grooves_at_both_edges() {
+    let s = Scales {
+        layout: Layout::Rows,
+        scale_u: 1.0,
+        scale_v: 15.0,
+        irregularity: 0.3,
+        gap: 0.08,
+        ..Scales::default()
+    };
+    let mut rng = Pcg32::new(8, 8);
+    for _ in 0..2000 {
+        let v = 3.0 * rng.next_f32();
+        let a = s.sample(Vec2::new(0.3, v));
+        let b = s.sample(Vec2::new(0.7, v));
+        // One plate spans the width: same cell, same id, wherever across u.
+        assert_eq!(a.id, b.id, "at v {v}");
+        // Its side edges are the band's edges, u = 0 and u = 1.
+        let e = s.sample(Vec2::new(0.002, v)).edge_distance;
+        assert!(e < 0.003, "edge distance {e} at the band's edge");
+    }
+    // Rows are laid end to end along v: about scale_v plates per unit v.
+    let mut ids = std::collections::HashSet::new();
+    for i in 0..3000 {
+        // The centre, unlike the lattice index, is not wrapped by the period of scale_v.
+        ids.insert(
+            s.sample(Vec2::new(0.5, i as f32 / 1000.0))
+                .center
+                .y
+                .to_bits(),
+        );
+    }
+    assert!((ids.len() as i32 - 45).abs() <= 1, "{}", ids.len());
+}
+
+#[test]
+fn head_layout_gives_every_shield_its_cell_and_closes_the_map_edges() {
+    let s = Scales {
+        layout: Layout::Head,
+        scale_u: 1.0,
+        scale_v: 1.0,
+        gap: 0.06,
+        ..Scales::default()
+    };
+    let seeds = crate::texture::head_shields::seeds();
+    let n = crate::texture::head_shields::shields();
+    let mut ids = std::collections::HashSet::new();
+    for (i, q) in seeds.iter().enumerate().take(n) {
+        let a = s.sample(*q);
+        assert_eq!(
+            a.cell,
+            (i as i32, 0),
+            "the seed of shield {i} lies in its own cell"
+        );
+        assert!(a.groove < 0.5, "shield {i}'s centre is in a groove");
+        ids.insert(a.id.to_bits());
+    }
+    assert_eq!(ids.len(), n, "shields share ids");
+    // Along the lower lip (u = 0) and the back of the head (v = 1) runs a groove: the map's
+    // edges are shield edges.
+    let mut rng = Pcg32::new(4, 4);
+    for _ in 0..200 {
+        let t = 0.05 + 0.9 * rng.next_f32();
+        for uv in [Vec2::new(0.0, t), Vec2::new(1.0, t)] {
+            let e = s.sample(uv).edge_distance;
+            assert!(e < 0.05, "edge distance {e} at {uv}");
+        }
+    }
+    // The pattern is mirror-symmetric about the crown's midline.
+    for _ in 0..500 {
+        let uv = rng.next_vec2();
+        let a = s.sample(uv).edge_distance;
+        let b = s.sample(Vec2::new(1.0 - uv.x, uv.y)).edge_distance;
+        assert!((a - b).abs() < 1e-4, "{a} vs {b} at {uv}");
+    }
+}
