@@ -54,6 +54,7 @@ pub struct ShapeSample {
 }
 
 pub mod disk;
+pub mod litter;
 pub mod load;
 pub mod mesh;
 pub mod obj;

@@ -1,5 +1,5 @@
-//! Scene loading for the procedural shapes `torus` and `snake` (models and parameter tables in
-//! `shape/torus.rs` and `shape/snake.rs`).
+//! Scene loading for the procedural shapes `torus`, `snake` and `litter` (models and parameter
+//! tables in `shape/torus.rs`, `shape/snake.rs` and `shape/litter.rs`).
 
 use super::values::{checked_float, checked_int};
 use crate::math::Transform;
@@ -129,4 +129,61 @@ pub(crate) fn snake(
         .into_iter()
         .map(|(part, mesh)| (part, Shape::Mesh(mesh)))
         .collect())
+}
+
+/// `litter`.
+pub(crate) fn litter(node: &Node, to_world: &Transform, flip: bool) -> Result<Shape, SceneError> {
+    use crate::shape::litter::{litter, LitterParams};
+    let d = LitterParams::default();
+    let fraction = |name: &str, default: f32| {
+        checked_float(
+            node,
+            name,
+            default,
+            |v| (0.0..=1.0).contains(&v),
+            "between 0 and 1",
+        )
+    };
+    let p = LitterParams {
+        count: checked_int(node, "count", d.count as i64, 1, 1_000_000)? as u32,
+        size: positive(node, "size", d.size)?,
+        size_spread: checked_float(
+            node,
+            "size_spread",
+            d.size_spread,
+            |v| (0.0..1.0).contains(&v),
+            "in [0, 1)",
+        )?,
+        width: checked_float(node, "width", d.width, |v| v > 0.0 && v <= 2.0, "in (0, 2]")?,
+        curl: fraction("curl", d.curl)?,
+        arch: fraction("arch", d.arch)?,
+        lift: checked_float(
+            node,
+            "lift",
+            d.lift,
+            |v| v > 0.0 && v.is_finite(),
+            "positive",
+        )?,
+        extent: positive(node, "extent", d.extent)?,
+        clear: checked_float(
+            node,
+            "clear",
+            d.clear,
+            |v| (0.0..1e6).contains(&v),
+            "zero or positive",
+        )?,
+        seed: checked_int(node, "seed", 0, 0, u32::MAX as i64)? as u32,
+    };
+    let g = litter(&p);
+    let mesh = TriangleMesh::new(
+        g.positions,
+        g.normals,
+        g.uvs,
+        g.indices,
+        to_world,
+        flip,
+        false,
+    )
+    .map_err(|e| SceneError::at(&node.loc, format!("{}: {e}", node.describe())))?;
+    Ok(Shape::Mesh(mesh))
 }

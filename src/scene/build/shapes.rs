@@ -39,6 +39,7 @@ pub(crate) fn add_shape(
         "rectangle" => Shape::Mesh(TriangleMesh::rectangle(&to_world, flip).map_err(|e| err(&e))?),
         "cube" => Shape::Mesh(TriangleMesh::cube(&to_world, flip).map_err(|e| err(&e))?),
         "torus" => super::procedural::torus(node, &to_world, flip)?,
+        "litter" => super::procedural::litter(node, &to_world, flip)?,
         "snake" => {
             let parts = super::procedural::snake(node, &to_world, flip, warnings)?;
             return add_parts(b, node, parts, warnings);
