@@ -276,7 +276,7 @@ fn render_tile(
                 if let Some(a) = aov {
                     let px = out.len() * n_aov;
                     let key = aov::sample_key(scene.sampler.seed, x, y, s);
-                    a.accumulate(scene, &ray, &wl, key, &mut aov_sums[px..px + n_aov]);
+                    a.accumulate(scene, &ray, key, &mut aov_sums[px..px + n_aov]);
                 }
                 let l = if with_image {
                     radiance(scene, ray, &wl, &mut sampler, strategy)

@@ -35,9 +35,10 @@
 //!
 //! `albedo` differs from Mitsuba's, which returns each BSDF's diffuse reflectance (undefined for
 //! ophis's film and layered materials): here it is ∫ f·|cos θ| dωi, estimated with one BSDF
-//! sample per camera sample from a random stream of its own (so the image does not change when
-//! AOVs are added), converted from the spectrum under D65 — exact for `diffuse` (cosine
-//! sampling has no variance), and for glass or a film the sum of reflection and transmission.
+//! sample at each of eight stratified sets of four wavelengths per camera sample, from a random
+//! stream of its own (so the image does not change when AOVs are added), converted from the
+//! spectrum under D65 — exact for `diffuse` up to the spectral quadrature (cosine sampling has
+//! no variance), and for glass or a film the sum of reflection and transmission.
 //! `duv_dx`, `duv_dy` (no ray differentials yet) and `boundary_test` are refused.
 
 use crate::bsdf::{Bsdf, Material, TransportMode};
@@ -167,14 +168,7 @@ impl AovSettings {
 
     /// Adds one camera sample's AOVs to `out` (one value per channel). `key` identifies the
     /// pixel sample (it seeds the albedo estimate's own random stream).
-    pub fn accumulate(
-        &self,
-        scene: &Scene,
-        ray: &Ray,
-        wl: &SampledWavelengths,
-        key: u64,
-        out: &mut [f64],
-    ) {
+    pub fn accumulate(&self, scene: &Scene, ray: &Ray, key: u64, out: &mut [f64]) {
         let hit = scene.intersect(ray).map(|(_, si)| si);
         let mut k = 0;
         let mut put = |vals: &[f32]| {
@@ -197,46 +191,56 @@ impl AovSettings {
                 AovKind::DpDv => put(&si.dpdv.to_array()),
                 AovKind::PrimIndex => put(&[si.prim as f32]),
                 AovKind::ShapeIndex => put(&[(si.shape + 1) as f32]),
-                AovKind::Albedo => put(&albedo(scene, ray, &si, wl, key)),
+                AovKind::Albedo => put(&albedo(scene, ray, &si, key)),
             }
         }
     }
 }
 
-/// One-sample estimate of the directional albedo at a camera hit, as linear sRGB under D65.
-fn albedo(
-    scene: &Scene,
-    ray: &Ray,
-    si: &crate::shape::SurfaceInteraction,
-    wl: &SampledWavelengths,
-    key: u64,
-) -> [f32; 3] {
+/// Wavelength strata of the albedo estimate (each with the path's four hero wavelengths).
+const ALBEDO_STRATA: usize = 8;
+
+/// Estimate of the directional albedo at a camera hit, as linear sRGB under D65: one BSDF
+/// sample at each of `ALBEDO_STRATA` stratified sets of four wavelengths, so that the colour
+/// conversion sees 32 wavelengths spread over the spectrum (four would leave it as noisy as
+/// the image's own colour).
+fn albedo(scene: &Scene, ray: &Ray, si: &crate::shape::SurfaceInteraction, key: u64) -> [f32; 3] {
     let material = &scene.materials[scene.shape_material[si.shape as usize] as usize];
     if matches!(material, Material::Null) {
         return [0.0; 3];
     }
     let wo = -ray.d;
     let tc = TexCoord { uv: si.uv, p: si.p };
-    let (bxdf, two_sided) = material.eval(&tc, wl, si.ng.dot(wo) >= 0.0);
-    let bsdf = Bsdf {
-        frame: material.shading_frame(si, wo, scene.camera.footprint(scene.height, si.t)),
-        bxdf,
-        two_sided,
-    };
+    let frame = material.shading_frame(si, wo, scene.camera.footprint(scene.height, si.t));
     let mut rng = Pcg32::new(mix64(key ^ 0x5eed_a1be_d000_0000), 0xa0f);
-    let (uc, u) = (rng.next_f32(), rng.next_vec2());
-    let rho = match bsdf.sample_f(wo, uc, u, TransportMode::Radiance, &mut rng) {
-        Some(bs) if bs.pdf > 0.0 => bs.f * (bs.wi.dot(bsdf.frame.n).abs() / bs.pdf),
-        _ => SampledSpectrum::ZERO,
-    };
-    if !rho.is_finite() {
-        return [0.0; 3];
+    let offset = rng.next_f32();
+    let mut xyz = [0.0f32; 3];
+    for k in 0..ALBEDO_STRATA {
+        let wl = SampledWavelengths::sample_visible((k as f32 + offset) / ALBEDO_STRATA as f32);
+        let (bxdf, two_sided) = material.eval(&tc, &wl, si.ng.dot(wo) >= 0.0);
+        let bsdf = Bsdf {
+            frame,
+            bxdf,
+            two_sided,
+        };
+        let (uc, u) = (rng.next_f32(), rng.next_vec2());
+        let rho = match bsdf.sample_f(wo, uc, u, TransportMode::Radiance, &mut rng) {
+            Some(bs) if bs.pdf > 0.0 => bs.f * (bs.wi.dot(bsdf.frame.n).abs() / bs.pdf),
+            _ => SampledSpectrum::ZERO,
+        };
+        if !rho.is_finite() {
+            continue;
+        }
+        let mut lit = rho;
+        for i in 0..crate::spectrum::N {
+            lit[i] *= cie::d65(wl.lambda[i]);
+        }
+        let c = spectrum_to_xyz(&lit, &wl);
+        for (a, b) in xyz.iter_mut().zip(c) {
+            *a += b / ALBEDO_STRATA as f32;
+        }
     }
-    let mut lit = rho;
-    for i in 0..crate::spectrum::N {
-        lit[i] *= cie::d65(wl.lambda[i]);
-    }
-    cie::xyz_to_linear_srgb(spectrum_to_xyz(&lit, wl))
+    cie::xyz_to_linear_srgb(xyz)
 }
 
 /// A key for one pixel sample (for [`AovSettings::accumulate`]).

@@ -44,12 +44,14 @@
 //! below (a flat lower jaw), blended over 0.8h–2.6h. Every function is C¹, so there is no crease
 //! or bulb where the head meets the body. The belly rests on the ground (y = 0; the chin rises a
 //! little towards the snout). Each eye is a sphere of radius `eye_size`·a(t_eye) at the head
-//! map's eye position, sunk to half its radius into the head.
+//! map's eye position, bulging out of the head by 40 % of its radius.
 //!
 //! **Poses** (`pose`): `s_curve` — x = X·τ − X/2, z = `amplitude`·sin(2π·`waves`·τ + `phase`),
 //! X chosen so the arc length is `length`, head towards −x; `coil` — an Archimedean spiral
 //! r = r0 + g·φ on the ground, tail at the centre (r0 = `coil_radius`·R), turns
 //! `coil_spacing`·2R apart (> 1 leaves a gap between them), head outside, rotated by `phase`.
+//! `roll` turns a stretch of either pose about its centreline, as a resting snake often lies
+//! with part of its body tilted on its side, the section dropped back onto the ground.
 //! A pose that makes the body pass through itself (or bend tighter than it is wide) loads with
 //! a warning naming where (see `self_intersection`).
 //!
@@ -72,7 +74,10 @@
 //! | `flatten`         | float     | 0.25    | —           | belly height deficit (0 = round)         |
 //! | `belly_width`     | float     | 0.22    | of perimeter| width of the ventral plates' band        |
 //! | `eyes`            | boolean   | true    | —           | add the eyes                             |
-//! | `eye_size`        | float     | 0.16    | of head half-width | eye radius                        |
+//! | `eye_size`        | float     | 0.12    | of head half-width | eye radius                        |
+//! | `roll`            | float     | 0       | degrees     | turn a stretch of the body about its centreline (shows the belly) |
+//! | `roll_at`         | float     | 0.5     | of length   | centre of the rolled stretch             |
+//! | `roll_span`       | float     | 0.25    | of length   | its length (eased in and out over its outer quarters) |
 //! | `segments_along`  | integer   | 800     | —           | rings along the body                     |
 //! | `segments_around` | integer   | 48      | —           | vertices around a ring                   |
 //! | `to_world`        | transform | identity| —           | placement                                |
@@ -161,6 +166,10 @@ pub struct SnakeParams {
     pub belly_width: f32,
     pub eyes: bool,
     pub eye_size: f32,
+    /// Radians.
+    pub roll: f32,
+    pub roll_at: f32,
+    pub roll_span: f32,
     pub segments_along: u32,
     pub segments_around: u32,
 }
@@ -185,7 +194,10 @@ impl Default for SnakeParams {
             flatten: 0.25,
             belly_width: 0.22,
             eyes: true,
-            eye_size: 0.16,
+            eye_size: 0.12,
+            roll: 0.0,
+            roll_at: 0.5,
+            roll_span: 0.25,
             segments_along: 800,
             segments_around: 48,
         }

@@ -100,6 +100,22 @@ pub(crate) fn snake(
         belly_width: ranged("belly_width", d.belly_width, 0.0, 0.5)?,
         eyes: node.props.get_bool("eyes", true)?,
         eye_size: ranged("eye_size", d.eye_size, 0.0, 0.5)?,
+        roll: checked_float(
+            node,
+            "roll",
+            0.0,
+            |v| v.abs() <= 180.0,
+            "between -180 and 180 degrees",
+        )?
+        .to_radians(),
+        roll_at: checked_float(
+            node,
+            "roll_at",
+            d.roll_at,
+            |v| (0.0..=1.0).contains(&v),
+            "between 0 and 1",
+        )?,
+        roll_span: ranged("roll_span", d.roll_span, 0.0, 1.0)?,
         segments_along: checked_int(node, "segments_along", d.segments_along as i64, 16, 100_000)?
             as u32,
         segments_around: checked_int(node, "segments_around", d.segments_around as i64, 12, 4096)?

@@ -140,7 +140,7 @@ fn rings(p: &SnakeParams, line: &Centreline) -> Rings {
         let a = p.half_width(tk);
         let (c, d) = line.at(tk);
         let side = DVec3::new(d[1], 0.0, -d[0]);
-        let base = DVec3::new(c[0], p.lift(tk), c[1]);
+        let mut ring = Vec::with_capacity(around);
         for m in 0..around {
             // Dorsal vertices from the left belly edge over the back to the right one, then
             // across the belly: the parts' boundaries fall on vertices.
@@ -150,7 +150,21 @@ fn rings(p: &SnakeParams, line: &Centreline) -> Rings {
                 1.0 - 0.5 * beta + beta * (m - dorsal) as f64 / belly as f64
             };
             let alpha = angle_at(&acc, s.rem_euclid(1.0) * total);
-            let (sx, sy) = p.section(alpha, a, r);
+            ring.push(p.section(alpha, a, r));
+        }
+        // A rolled stretch turns its section about the centreline and drops it back onto the
+        // ground: the lowest point moves, so does the centre.
+        let psi = p.roll_angle(tk);
+        let (sp, cp) = psi.sin_cos();
+        let low = |pts: &mut dyn Iterator<Item = f64>| pts.fold(f64::MAX, f64::min);
+        let before = low(&mut ring.iter().map(|q| q.1));
+        let rolled: Vec<(f64, f64)> = ring
+            .iter()
+            .map(|&(x, y)| (x * cp - y * sp, x * sp + y * cp))
+            .collect();
+        let after = low(&mut rolled.iter().map(|q| q.1));
+        let base = DVec3::new(c[0], p.lift(tk) + before - after, c[1]);
+        for (sx, sy) in rolled {
             positions.push(base + side * sx + DVec3::Y * sy);
         }
     }
@@ -274,8 +288,8 @@ fn smooth_normals<'a>(
         .collect()
 }
 
-/// Two small spheres set into the sides of the head, bulging out by half their radius, at the
-/// head map's eye position.
+/// Two small spheres set into the sides of the head, bulging out by 40 % of their radius, at
+/// the head map's eye position.
 fn eyes(p: &SnakeParams, line: &Centreline) -> MeshData {
     let h = p.head_length as f64;
     let t = super::EYE_V as f64 * h;
@@ -291,7 +305,7 @@ fn eyes(p: &SnakeParams, line: &Centreline) -> MeshData {
         let u = 0.5 + side * super::EYE_OFFSET as f64;
         let frac = 0.5 * beta + (1.0 - beta) * u;
         let (pos, n) = surface_point(p, line, t, frac);
-        let centre = pos - n * (0.5 * radius);
+        let centre = pos - n * (0.6 * radius);
         uv_sphere(&mut mesh, centre, radius, 16, 10);
     }
     mesh

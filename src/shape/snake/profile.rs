@@ -150,6 +150,17 @@ impl SnakeParams {
         a * down * (1.0 - self.flatten as f64) + chin + clearance
     }
 
+    /// How far the section at t is rolled about the centreline (radians): `roll` over the
+    /// stretch of `roll_span` centred at `roll_at`, easing in and out over its outer quarters.
+    pub fn roll_angle(&self, t: f64) -> f64 {
+        if self.roll == 0.0 {
+            return 0.0;
+        }
+        let (c, s) = (self.roll_at as f64, 0.5 * self.roll_span as f64);
+        let w = smoothstep(c - s, c - 0.5 * s, t) * (1.0 - smoothstep(c + 0.5 * s, c + s, t));
+        self.roll as f64 * w
+    }
+
     /// Arc-length table of the section at t (unit half-width): `n + 1` cumulative lengths at
     /// α = −π/2 + 2π·i/n, and the ratios used.
     pub fn section_arc(&self, t: f64, n: usize) -> (Vec<f64>, (f64, f64)) {
