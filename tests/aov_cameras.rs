@@ -244,3 +244,37 @@ fn sensors_load_with_mitsubas_parameters_and_refuse_bad_ones() {
         "{e}"
     );
 }
+
+#[test]
+fn a_resumed_aov_render_equals_an_uninterrupted_one_and_round_trips_its_state() {
+    let s = scene(&sphere_scene(AOVS));
+    let whole = film_of(&s, 6);
+    // The first two passes (1 + 2 samples, a prefix of the 6-sample schedule), then continue
+    // from the saved state's film.
+    let part = film_of(&s, 3);
+    let info = ophis::checkpoint::StateInfo {
+        scene_path: "s.xml".into(),
+        scene_hash: 1,
+        seed: 0,
+        spp: 6,
+        strategy: "mis".into(),
+        defines: vec![],
+    };
+    let bytes = {
+        let mut b = Vec::new();
+        info.encode(&part, &mut b).unwrap();
+        b
+    };
+    let state = ophis::checkpoint::RenderState::from_bytes(&bytes, std::path::Path::new("s"))
+        .unwrap();
+    assert_eq!(state.film, part);
+    let mut resumed = state.film;
+    let opts = RenderOptions {
+        spp: 6,
+        time_limit: None,
+        strategy: ophis::integrator::PathStrategy::Mis,
+    };
+    render(&s, &mut resumed, 3, &opts, &AtomicBool::new(false), &NoProgress);
+    assert_eq!(resumed.pixels, whole.pixels);
+    assert_eq!(resumed.aov, whole.aov);
+}

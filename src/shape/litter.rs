@@ -67,8 +67,8 @@ impl Default for LitterParams {
 }
 
 /// Grid of a leaf: segments along and across.
-const ALONG: usize = 10;
-const ACROSS: usize = 6;
+const ALONG: usize = 8;
+const ACROSS: usize = 4;
 
 /// The litter's mesh in object space.
 pub fn litter(p: &LitterParams) -> MeshData {

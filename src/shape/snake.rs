@@ -85,8 +85,10 @@
 //!
 //! Proportions: a 1 m *Xenopeltis* has a head of ~3 cm and a tail ~10 % of its length
 //! (subcaudals are about a seventh of the ventrals' count), and is ~2.5–3 cm thick; the
-//! defaults keep these ratios for `length` 4. A picture is `docs/snake-poses.png`
-//! (`scenes/snake-poses.xml`). Users can still load their own snake with `obj`/`ply`.
+//! defaults keep these ratios for `length` 4. Pictures: `docs/snake-poses.png`
+//! (`scenes/snake-poses.xml`, the two poses with each part in its own colour) and
+//! `docs/snake-head.png` (`scenes/snake-head.xml`). Users can still load their own snake with
+//! `obj`/`ply`.
 //!
 //! Limits: planar poses only (no coil stacked on another, no raised head); one head-shield
 //! layout; the belly band's plates continue under the chin, where a real snake has small chin
