@@ -6,8 +6,8 @@
 //! `cargo run --release --example bench_layered`
 
 use ophis::bsdf::layered::closed_form::{CoatOptics, CoatedDiffuse};
-use ophis::bsdf::layered::{LayeredBxdf, Medium, DEFAULT_MAX_DEPTH};
-use ophis::bsdf::{dielectric::DielectricBxdf, diffuse::DiffuseBxdf, Bxdf, TransportMode};
+use ophis::bsdf::layered::{LayeredBxdf, LayeredModel, Medium, DEFAULT_MAX_DEPTH};
+use ophis::bsdf::{diffuse::DiffuseBxdf, Bxdf, TransportMode};
 use ophis::math::{Pcg32, Vec3};
 use ophis::spectrum::SampledSpectrum;
 use std::hint::black_box;
@@ -29,12 +29,12 @@ fn dir(theta_deg: f32, phi: f32) -> Vec3 {
 fn main() {
     let s = SampledSpectrum::splat;
     let mode = TransportMode::Radiance;
-    let coat = || Bxdf::Dielectric(DielectricBxdf::new(1.5, s(1.0), s(1.0)));
+    let coat = || Bxdf::dielectric(1.5, s(1.0), s(1.0));
     let base = || Bxdf::Diffuse(DiffuseBxdf::new(s(0.5)));
     let media = [Medium::absorbing(s(1.4))];
     let build = |closed: bool| {
         Bxdf::Layered(Box::new(
-            LayeredBxdf::new([coat(), base()], &media, DEFAULT_MAX_DEPTH, closed).unwrap(),
+            LayeredBxdf::new([coat(), base()], &media, DEFAULT_MAX_DEPTH, closed, 1).unwrap(),
         ))
     };
     let film = CoatOptics::Film {
@@ -73,11 +73,10 @@ fn main() {
         black_box(build(false));
     });
     println!("construct random walk:                   {t:8.0} ns");
-    let film_b = Bxdf::Layered(Box::new(LayeredBxdf::Closed(CoatedDiffuse::new(
-        film,
-        s(0.5),
-        s(1.4),
-    ))));
+    let film_b = Bxdf::Layered(Box::new(LayeredBxdf {
+        model: LayeredModel::Closed(CoatedDiffuse::new(film, s(0.5), s(1.4))),
+        seed: 1,
+    }));
     for (name, b) in [
         ("closed form, dielectric", build(true)),
         ("closed form, film      ", film_b),
@@ -85,18 +84,21 @@ fn main() {
     ] {
         let tf = time_ns(n, |i| {
             let (wo, wi) = dirs[i & 1023];
-            black_box(b.f(wo, wi, mode, &mut rng));
+            black_box(b.f(wo, wi, mode));
         });
         let ts = time_ns(n, |i| {
             let (wo, _) = dirs[i & 1023];
-            black_box(b.sample_f(wo, rng.next_f32(), rng.next_vec2(), mode, &mut rng));
+            black_box(b.sample_f(wo, rng.next_f32(), rng.next_vec2(), mode));
         });
         // Relative standard deviation of one f sample at (30°, 60°).
         let (wo, wi) = (dir(30.0, 0.0), dir(60.0, 3.0));
         let (mut m, mut m2) = (0.0f64, 0.0f64);
         let k = 100_000;
-        for _ in 0..k {
-            let v = b.f(wo, wi, mode, &mut rng)[0] as f64;
+        let mut b = b.clone();
+        for i in 0..k {
+            // A stochastic f is a deterministic function of its seed: a new seed per sample.
+            b.reseed(i as u64);
+            let v = b.f(wo, wi, mode)[0] as f64;
             m += v;
             m2 += v * v;
         }

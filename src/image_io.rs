@@ -1,8 +1,9 @@
-//! Image reading and writing: OpenEXR (via the `exr` crate), Radiance HDR (RGBE, own reader) and
-//! PNG (via the `png` crate).
+//! Image reading and writing: OpenEXR (via the `exr` crate), Radiance HDR (RGBE, own reader),
+//! PNG (via the `png` crate) and, for reading only, JPEG (via `zune-jpeg`).
 //!
 //! Every image is held as linear RGB in `f32`, row-major with the top row first. Readers pick the
-//! format from the file's magic bytes (`v/1\x01` OpenEXR, `#?` Radiance, `\x89PNG` PNG); the
+//! format from the file's magic bytes (`v/1\x01` OpenEXR, `#?` Radiance, `\x89PNG` PNG,
+//! `FF D8 FF` JPEG); the
 //! extension is only used to word the error when the magic matches nothing.
 //!
 //! Known limits:
@@ -14,6 +15,8 @@
 //!   and `+Y h +X w`; `EXPOSURE` is ignored (as most renderers do).
 //! - PNG: gAMA/iCCP chunks are ignored; 8- and 16-bit samples are always decoded with the sRGB
 //!   transfer function. Alpha is dropped.
+//! - JPEG: 8-bit, decoded with the sRGB transfer function; EXIF orientation and ICC profiles are
+//!   ignored.
 //! - Images of more than [`MAX_PIXELS`] pixels are refused before any pixel storage is allocated.
 
 use std::io::Cursor;
@@ -21,6 +24,7 @@ use std::path::{Path, PathBuf};
 
 mod exr_order;
 mod hdr;
+mod jpeg_io;
 mod png_io;
 
 use self::png_io::read_png_bytes;
@@ -139,7 +143,7 @@ fn read_bytes(path: &Path) -> Result<Vec<u8>, ImageError> {
 const EXR_MAGIC: [u8; 4] = [0x76, 0x2f, 0x31, 0x01];
 const PNG_MAGIC: [u8; 8] = [0x89, b'P', b'N', b'G', b'\r', b'\n', 0x1a, b'\n'];
 
-/// Reads an OpenEXR, Radiance HDR or PNG image as linear RGB.
+/// Reads an OpenEXR, Radiance HDR, PNG or JPEG image as linear RGB.
 pub fn read_image(path: impl AsRef<Path>) -> Result<RgbImage, ImageError> {
     let path = path.as_ref();
     let bytes = read_bytes(path)?;
@@ -149,6 +153,8 @@ pub fn read_image(path: impl AsRef<Path>) -> Result<RgbImage, ImageError> {
         read_png_bytes(path, &bytes)
     } else if bytes.starts_with(b"#?") {
         hdr::read_hdr_bytes(path, &bytes)
+    } else if bytes.starts_with(&jpeg_io::JPEG_MAGIC) {
+        jpeg_io::read_jpeg_bytes(path, &bytes)
     } else {
         let ext = path
             .extension()
@@ -158,7 +164,8 @@ pub fn read_image(path: impl AsRef<Path>) -> Result<RgbImage, ImageError> {
             Some("exr") => "OpenEXR",
             Some("hdr") | Some("rgbe") | Some("pic") => "Radiance HDR",
             Some("png") => "PNG",
-            _ => "OpenEXR, Radiance HDR or PNG",
+            Some("jpg") | Some("jpeg") => "JPEG",
+            _ => "OpenEXR, Radiance HDR, PNG or JPEG",
         };
         Err(ImageError::NotTheFormat {
             path: path.to_path_buf(),

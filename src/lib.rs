@@ -15,8 +15,6 @@ pub mod camera;
 pub mod checkpoint;
 /// Film: XYZ accumulation and reconstruction filters.
 pub mod film;
-/// The thesis and paper figures, `ophis gallery`, and the built-in Xenopeltis scene.
-pub mod gallery;
 /// Image reading and writing: OpenEXR, Radiance HDR, PNG.
 pub mod image_io;
 /// Path tracing.
@@ -33,6 +31,8 @@ pub mod merge;
 pub mod optics;
 /// Raster plotting for PNG figures: canvas, bitmap font, charts.
 pub mod plot;
+/// Plugins: the scene description they read, their parameter declarations, the registry.
+pub mod plugin;
 /// The render loop over tiles.
 pub mod render;
 /// Sample generators.
@@ -45,3 +45,5 @@ pub mod shape;
 pub mod spectrum;
 /// Textures.
 pub mod texture;
+/// Tools above the renderer: the BSDF inspector behind `ophis bsdf`, quick renders.
+pub mod tools;

@@ -15,6 +15,8 @@
 //! | film                | 48 per pixel (f64 XYZ + count sums, f32 RGB image, PNG bytes) |
 //! | PLY mesh            | 32 per vertex + 112 per triangle (indices, BVH, build), counts from the header; a polygon counts as 2 triangles |
 //! | OBJ mesh            | file size × 6 (an OBJ line of ~30 bytes becomes ~180 bytes)   |
+//! | serialized mesh     | file size × 12 (zlib packs the ~44 bytes of a vertex and a triangle into ~15; the mesh needs ~150) |
+//! | `instance`          | the meshes of the group it copies                             |
 
 use crate::scene::build::MAX_RESOLUTION;
 use crate::scene::mitsuba::{Location, Node, SceneError, Tag};
@@ -25,6 +27,7 @@ const FILM_PIXEL: u64 = 48;
 const VERTEX: u64 = 32;
 const TRIANGLE: u64 = 112;
 const OBJ_FACTOR: u64 = 6;
+const SERIALIZED_FACTOR: u64 = 12;
 
 /// Estimated memory of a scene, in bytes, by part.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -135,6 +138,7 @@ fn mesh_bytes(node: &Node) -> (u64, String) {
             })
             .unwrap_or(0),
         "obj" => meta.len().saturating_mul(OBJ_FACTOR),
+        "serialized" => meta.len().saturating_mul(SERIALIZED_FACTOR),
         _ => 0,
     };
     (bytes, format!("the mesh {}", path.display()))
@@ -168,6 +172,17 @@ pub fn estimate(root: &Node) -> MemoryEstimate {
                     }
                 }
             }
+            // Instances copy their group's meshes; the group itself is built only through them.
+            Tag::Shape if node.plugin == "instance" => {
+                for g in node.children_with_tag(Tag::Shape) {
+                    for s in g.children_with_tag(Tag::Shape) {
+                        let (b, what) = mesh_bytes(s);
+                        meshes = meshes.saturating_add(b);
+                        consider(b, &node.loc, format!("{what} (instanced)"));
+                    }
+                }
+            }
+            Tag::Shape if node.plugin == "shapegroup" => {}
             Tag::Shape => {
                 let (b, what) = mesh_bytes(node);
                 meshes = meshes.saturating_add(b);

@@ -265,8 +265,8 @@ fn a_resumed_aov_render_equals_an_uninterrupted_one_and_round_trips_its_state() 
         info.encode(&part, &mut b).unwrap();
         b
     };
-    let state = ophis::checkpoint::RenderState::from_bytes(&bytes, std::path::Path::new("s"))
-        .unwrap();
+    let state =
+        ophis::checkpoint::RenderState::from_bytes(&bytes, std::path::Path::new("s")).unwrap();
     assert_eq!(state.film, part);
     let mut resumed = state.film;
     let opts = RenderOptions {
@@ -274,7 +274,14 @@ fn a_resumed_aov_render_equals_an_uninterrupted_one_and_round_trips_its_state() 
         time_limit: None,
         strategy: ophis::integrator::PathStrategy::Mis,
     };
-    render(&s, &mut resumed, 3, &opts, &AtomicBool::new(false), &NoProgress);
+    render(
+        &s,
+        &mut resumed,
+        3,
+        &opts,
+        &AtomicBool::new(false),
+        &NoProgress,
+    );
     assert_eq!(resumed.pixels, whole.pixels);
     assert_eq!(resumed.aov, whole.aov);
 }

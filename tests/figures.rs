@@ -7,10 +7,11 @@
 //! - the absorption figure (4.5) darkens monotonically with the layer's thickness, each step
 //!   resolved by more than 4 standard errors.
 
-use ophis::bsdf::filmmaterial::FilmIor;
-use ophis::gallery::render_file;
 use ophis::image_io::RgbImage;
-use ophis::optics::filmtool::{reflected_rgb, FilmStack};
+use ophis::optics::filmstack::FilmStack;
+use ophis::optics::filmtool::{reflected_rgb, rt_deg};
+use ophis::optics::ior::Ior;
+use ophis::tools::preview::render_file;
 use std::path::{Path, PathBuf};
 
 fn scenes_dir() -> PathBuf {
@@ -82,13 +83,7 @@ fn film_scene(dir: &Path) -> PathBuf {
 /// view hits the sphere at angle of incidence asin(√(x² + y²)) (orthographic to 1 part in
 /// 10⁴ at distance 100). Midpoint rule on a 24 × 24 grid, spectral step 2 nm.
 fn predicted(d_nm: f64) -> [f64; 3] {
-    let stack = FilmStack {
-        ext: 1.0,
-        film: FilmIor::Constant(1.56),
-        d_nm,
-        base_n: 1.0,
-        base_k: 0.0,
-    };
+    let stack = FilmStack::film(Ior::Real(1.0), Ior::Real(1.56), d_nm, Ior::Real(1.0)).unwrap();
     let n = 24;
     let mut acc = [0.0; 3];
     for i in 0..n {
@@ -96,7 +91,7 @@ fn predicted(d_nm: f64) -> [f64; 3] {
             let x = H * (2.0 * (i as f64 + 0.5) / n as f64 - 1.0);
             let y = H * (2.0 * (j as f64 + 0.5) / n as f64 - 1.0);
             let theta = (x * x + y * y).sqrt().asin().to_degrees();
-            let c = reflected_rgb(|l| stack.rt(theta, l).r(), 2);
+            let c = reflected_rgb(|l| rt_deg(&stack, theta, l, false).r(), 2);
             for k in 0..3 {
                 acc[k] += c[k] / (n * n) as f64;
             }

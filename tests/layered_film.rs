@@ -3,11 +3,11 @@
 //! albedo values used here: film n = 1.8, 300 nm, on an n = 1.5 coat over a base of albedo 0.5),
 //! and the white furnace with a film top. Statistical checks at 4 standard errors.
 
-use ophis::bsdf::inspect::{at_wavelength, Quantity};
-use ophis::bsdf::layered::LayeredBxdf;
+use ophis::bsdf::layered::LayeredModel;
 use ophis::bsdf::{Bxdf, Material};
 use ophis::scene::build::build_material;
 use ophis::scene::mitsuba::load_str;
+use ophis::tools::inspect::{at_wavelength, Quantity};
 use std::path::Path;
 
 fn material(id: &str, tau: f32, rho: f32, closed_form: bool) -> Material {
@@ -45,9 +45,9 @@ fn walk_through_a_film_top_matches_the_research_albedo() {
             let m = material("skin", 1.4, 0.5, closed);
             // The smooth film coat takes the closed form unless it is switched off.
             let wl = ophis::spectrum::SampledWavelengths::fixed([lambda; 4]);
-            let (bxdf, _) = m.eval(&Default::default(), &wl, true);
+            let (bxdf, _) = m.eval(&Default::default(), &wl, true, 0);
             let is_closed =
-                matches!(bxdf, Bxdf::Layered(ref l) if matches!(**l, LayeredBxdf::Closed(_)));
+                matches!(bxdf, Bxdf::Layered(ref l) if matches!(l.model, LayeredModel::Closed(_)));
             assert_eq!(is_closed, closed);
             let e = at_wavelength(&m, Quantity::Albedo { theta_i: 0.0 }, lambda, 100_000, 7);
             let tol = 4.0 * e.std_err + 1e-4;

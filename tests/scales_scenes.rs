@@ -86,7 +86,7 @@ fn bad_parameters_are_errors_with_locations() {
             r#"<shape type="sphere"><bsdf type="diffuse">
 <texture type="per_scale" name="reflectance"/></bsdf></shape>"#,
             "test.xml:3:",
-            "not supported",
+            "cannot be used as a colour",
         ),
     ];
     for (body, at, what) in cases {

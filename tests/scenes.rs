@@ -4,7 +4,7 @@
 //! rendered with every value. A last test checks that the list below is the directory listing,
 //! so that a new scene cannot be forgotten.
 
-use ophis::gallery::render_file;
+use ophis::tools::preview::render_file;
 use std::path::{Path, PathBuf};
 
 /// Pixels per side and samples per pixel of the smoke renders.
@@ -98,6 +98,7 @@ scene_tests! {
     cornell_box => "cornell-box.xml",
     cornell_mesh => "cornell-mesh.xml",
     daylight => "daylight.xml",
+    filmstack_compare => "filmstack-compare.xml",
     layered_skin => "layered-skin.xml",
     scales_snake_thinfilm => "scales-snake-thinfilm.xml",
     scales_snake => "scales-snake.xml",
@@ -152,7 +153,7 @@ fn every_scene_file_is_tested() {
 #[test]
 fn builtin_flagship_is_the_scene_file() {
     let file = std::fs::read_to_string(scenes_dir().join("xenopeltis.xml")).unwrap();
-    assert_eq!(file, ophis::gallery::XENOPELTIS_XML);
+    assert_eq!(file, ophis::scene::builtin::XENOPELTIS_XML);
     // It must not depend on files beside it: it is loaded from the binary.
     for attr in ["filename=", "<include"] {
         assert!(

@@ -8,16 +8,17 @@
 //! length of the path through the layer (algorithm 2, eq. 3.2); the length of a straight path
 //! through a slab of unit thickness is 1/cos θ on each way.
 //!
-//! | XML name      | type             | default | unit |
-//! |---------------|------------------|---------|------|
-//! | `reflectance` | spectrum/texture | 0.5     | albedo of the base |
-//! | `sigma_a`     | spectrum/texture | 0       | absorption coefficient, 1/(unit of `thickness`) |
-//! | `thickness`   | float            | 1       | layer thickness |
+//! ## Parameters
 //!
-//! Seed names: plugin `absorption` (the seed's Mitsuba 0.6 plugin is `Absorption`), `sigmaA`
-//! (upgraded to `sigma_a` by the loader). The seed's plugin applied the same factor as a
-//! straight pass-through interface inside its `multilayered` stack; here it is the opaque base
-//! the thesis describes, which `multilayered` can use as its bottom surface.
+//! | parameter | type | default | unit | meaning |
+//! |---|---|---|---|---|
+//! | `reflectance` | spectrum or texture | 0.5 | — | albedo of the base |
+//! | `sigma_a` (0.6: `sigmaA`) | spectrum or texture | 0.0 | 1/(unit of `thickness`) | absorption coefficient |
+//! | `thickness` | float | 1.0 | — | thickness of the layer; non-negative |
+//!
+//! The thesis's Mitsuba 0.6 plugin is `Absorption` (an alias here). It applied the same factor
+//! as a straight pass-through interface inside its `multilayered` stack; here it is the opaque
+//! base the thesis describes, which `multilayered` can use as its bottom surface.
 //!
 //! Physical limits: the layer has the index of the outside (no refraction at its top, no
 //! internal reflection) and does not scatter; the base is Lambertian. Under those assumptions
@@ -25,9 +26,45 @@
 //! energy ≤ ρ (absorption only removes light). For a layer under a coat of another index use
 //! `multilayered`, whose closed form includes refraction and internal reflection.
 
-use super::{BsdfSample, BxdfFlags, TransportMode};
-use crate::math::{warp, Pcg32, Vec2, Vec3, INV_PI};
+use super::{BsdfSample, BxdfFlags, Material};
+use crate::math::{warp, Vec2, Vec3, INV_PI};
+use crate::plugin::{declare, Args, Check, DefaultValue, Param, SceneError, SpectrumKind, Ty};
 use crate::spectrum::SampledSpectrum;
+
+/// The parameters.
+const PARAMS: &[Param] = &[
+    Param::new(
+        "reflectance",
+        Ty::SpectrumTexture(SpectrumKind::Albedo),
+        DefaultValue::Float(0.5),
+    )
+    .doc("albedo of the base"),
+    Param::new(
+        "sigma_a",
+        Ty::SpectrumTexture(SpectrumKind::Unbounded),
+        DefaultValue::Float(0.0),
+    )
+    .v06("sigmaA")
+    .unit("1/(unit of `thickness`)")
+    .doc("absorption coefficient"),
+    Param::float("thickness", 1.0)
+        .check(Check::NonNegative)
+        .doc("thickness of the layer"),
+];
+
+declare!(
+    /// The `absorption` plugin.
+    pub(crate) PLUGIN: Material = Bsdf "absorption" ["Absorption"]
+    "the thesis's pigment layer: Beer–Lambert absorption over a Lambertian base"
+    [PARAMS] load);
+
+fn load(a: &mut Args, _: ()) -> Result<Material, SceneError> {
+    Ok(Material::Absorption {
+        reflectance: a.spectrum_texture("reflectance")?,
+        sigma_a: a.spectrum_texture("sigma_a")?,
+        thickness: a.float("thickness")?,
+    })
+}
 
 /// Lambertian base of albedo `rho` under a layer of optical depth `tau` = σa·d.
 #[derive(Clone, Debug)]
@@ -51,27 +88,20 @@ impl AbsorptionBxdf {
             BxdfFlags::DIFFUSE_REFLECTION
         }
     }
-    pub fn f(&self, wo: Vec3, wi: Vec3, _m: TransportMode, _rng: &mut Pcg32) -> SampledSpectrum {
+    pub fn f(&self, wo: Vec3, wi: Vec3) -> SampledSpectrum {
         if wo.z <= 0.0 || wi.z <= 0.0 {
             return SampledSpectrum::ZERO;
         }
         let path = 1.0 / wo.z + 1.0 / wi.z;
         self.rho * INV_PI * (-self.tau * path).exp()
     }
-    pub fn pdf(&self, wo: Vec3, wi: Vec3, _m: TransportMode, _rng: &mut Pcg32) -> f32 {
+    pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
         if wo.z <= 0.0 || wi.z <= 0.0 {
             return 0.0;
         }
         warp::square_to_cosine_hemisphere_pdf(wi)
     }
-    pub fn sample_f(
-        &self,
-        wo: Vec3,
-        _uc: f32,
-        u: Vec2,
-        mode: TransportMode,
-        rng: &mut Pcg32,
-    ) -> Option<BsdfSample> {
+    pub fn sample_f(&self, wo: Vec3, u: Vec2) -> Option<BsdfSample> {
         if wo.z <= 0.0 {
             return None;
         }
@@ -80,7 +110,7 @@ impl AbsorptionBxdf {
         if pdf.is_nan() || pdf <= 0.0 {
             return None;
         }
-        let f = self.f(wo, wi, mode, rng);
+        let f = self.f(wo, wi);
         Some(BsdfSample::new(f, wi, pdf, BxdfFlags::DIFFUSE_REFLECTION))
     }
 }

@@ -13,9 +13,9 @@
 //! `tilt_degrees`, each scale's normal is then rotated by its own random tilt about an axis in
 //! the tangent plane — the scale-by-scale sparkle of real skin.
 //!
-//! `normalmap` takes its normal in tangent space (x along ∂p/∂u, y along ∂p/∂v, z the shading
-//! normal), as Mitsuba 3's does. ophis has no bitmap texture yet, so the only source is a
-//! `scales` texture: its relief's slope measured in cells, times `strength`.
+//! `normalmap` (its plugin file is `normalmap.rs`) takes its normal in tangent space (x along
+//! ∂p/∂u, y along ∂p/∂v, z the shading normal), as Mitsuba 3's does, from a `bitmap` or from
+//! a `scales` texture's relief (its slope measured in cells, times `strength`).
 //!
 //! Visible side: a perturbed normal can face away from the viewer while the surface faces it,
 //! which shows as black fringes. The normal is then bent towards the viewer (a multiple of wo is
@@ -25,22 +25,102 @@
 //! camera's pixel angle times the path length to the hit, divided by |cos θ| (at least 0.05); the
 //! height texture fades detail finer than that.
 //!
-//! | plugin      | XML name       | type          | default | unit  | meaning                       |
-//! |-------------|----------------|---------------|---------|-------|-------------------------------|
-//! | `bumpmap`   | (nested)       | float texture | —       | —     | the height h                  |
-//! | `bumpmap`   | `scale`        | float         | 1       | world units | displacement per unit height |
-//! | `bumpmap`   | (nested)       | bsdf          | —       | —     | the material being bumped     |
-//! | `normalmap` | `normalmap` (nested) | texture | —       | —     | `scales` only (see above)     |
-//! | `normalmap` | `strength`     | float         | 1       | —     | slope multiplier              |
-//! | `normalmap` | (nested)       | bsdf          | —       | —     | the material                  |
+//! ## Parameters
+//!
+//! | parameter | type | default | unit | meaning |
+//! |---|---|---|---|---|
+//! | `(nested texture)` | texture | required | — | the height h (a float texture: `scales`, `bitmap`, …) |
+//! | `scale` | float | 1.0 | world units | displacement per unit of height |
+//! | `(nested bsdf)` | bsdf | `diffuse` | — | the material being bumped |
 //!
 //! Limits: piecewise-constant textures (`checkerboard`, `per_scale`) have no slope and do not
 //! bump; the displaced surface is not traced (silhouettes stay smooth), as in any bump map.
 
 use super::material::Material;
 use crate::math::{Frame, Vec2, Vec3};
+use crate::plugin::{declare, Args, DefaultValue, Param, SceneError, Tag, Ty};
 use crate::shape::SurfaceInteraction;
-use crate::texture::{FloatTexture, Scales, TexCoord};
+use crate::texture::{FloatTexture, NormalSource, Scales, TexCoord, Texture, Want};
+
+declare!(
+    /// The `bumpmap` plugin.
+    pub(crate) PLUGIN: Material = Bsdf "bumpmap" []
+    "bump mapping: a nested BSDF with its normal displaced by a height texture"
+    [&[
+            Param::new("(nested texture)", Ty::Texture, DefaultValue::Required)
+                .doc("the height h (a float texture: `scales`, `bitmap`, …)"),
+            Param::float("scale", 1.0)
+                .unit("world units")
+                .doc("displacement per unit of height"),
+            Param::new(
+                "(nested bsdf)",
+                Ty::Bsdf,
+                DefaultValue::Derived("`diffuse`"),
+            )
+            .doc("the material being bumped"),
+        ]] load);
+
+/// The single nested BSDF of a wrapper (Mitsuba's default diffuse when absent).
+pub(crate) fn nested_bsdf(a: &mut Args) -> Result<Material, SceneError> {
+    match a.children(Tag::Bsdf).as_slice() {
+        [] => Ok(Material::default_diffuse()),
+        [b] => a.bsdf(b),
+        more => Err(SceneError::at(
+            &a.node().loc,
+            format!(
+                "{} takes one nested BSDF, found {}",
+                a.describe(),
+                more.len()
+            ),
+        )),
+    }
+}
+
+fn load(a: &mut Args, _: ()) -> Result<Material, SceneError> {
+    let textures = a.children(Tag::Texture);
+    let [tex] = textures.as_slice() else {
+        return Err(SceneError::at(
+            &a.node().loc,
+            format!(
+                "bumpmap needs exactly one nested height texture, found {}",
+                textures.len()
+            ),
+        ));
+    };
+    let Texture::Float(height) = a.texture_node(tex, Want::Float)? else {
+        return Err(SceneError::at(
+            &tex.loc,
+            "bumpmap: the height must be a float texture",
+        ));
+    };
+    Ok(Material::BumpMap {
+        height,
+        scale: a.float("scale")?,
+        inner: Box::new(nested_bsdf(a)?),
+    })
+}
+
+/// The normal source of a `normalmap` from its nested texture.
+pub(crate) fn normal_source(a: &mut Args) -> Result<NormalSource, SceneError> {
+    let textures = a.children(Tag::Texture);
+    let [tex] = textures.as_slice() else {
+        return Err(SceneError::at(
+            &a.node().loc,
+            "normalmap needs exactly one nested normal texture",
+        ));
+    };
+    match a.texture_node(tex, Want::Normals)? {
+        Texture::Normals(n) => Ok(n),
+        _ => Err(SceneError::at(
+            &tex.loc,
+            format!(
+                "normalmap: texture '{}' cannot supply normals (use a 'bitmap' or a 'scales' \
+                 texture)",
+                tex.plugin
+            ),
+        )),
+    }
+}
 
 /// Smallest cosine the visible-side correction leaves between the normal and wo.
 const MIN_VISIBLE_COS: f32 = 0.01;
@@ -97,15 +177,6 @@ pub fn keep_visible(n: Vec3, ng: Vec3, wo: Vec3) -> Vec3 {
 }
 
 /// Width a pixel covers on the surface in UV units, per axis, for a world-space footprint
-/// Where a `normalmap` takes its tangent-space normals from.
-#[derive(Clone, Debug)]
-pub enum NormalSource {
-    /// The slope of a `scales` relief.
-    Scales(std::sync::Arc<crate::texture::Scales>),
-    /// An image (`bitmap`, usually with `raw="true"`): n = 2·rgb − 1.
-    Bitmap(std::sync::Arc<crate::texture::Bitmap>),
-}
-
 /// `width` seen at cosine `cos` to the normal.
 pub fn uv_footprint(si: &SurfaceInteraction, width: f32, cos: f32) -> Vec2 {
     let w = width / cos.abs().max(0.05);

@@ -124,7 +124,10 @@ fn bumped_sphere_matches_the_displaced_sphere() {
 fn normals_stay_unit_finite_and_visible_at_poles_seams_and_grazing_angles() {
     let c = cells();
     let sph = Sphere::simple(Vec3::ZERO, 1.0);
-    let m = Material::two_sided(bumped(&c, 0.05), None);
+    let m = Material::TwoSided {
+        front: Box::new(bumped(&c, 0.05)),
+        back: None,
+    };
     let mut rng = Pcg32::new(4, 4);
     let dirs = [
         Vec3::Z,

@@ -1,17 +1,34 @@
 //! Lambertian reflection (Lambert 1760): f = ρ/π on the upper hemisphere, cosine-weighted
 //! sampling (Malley's method through the concentric disk).
 //!
-//! | Mitsuba parameter | type     | default | unit |
-//! |-------------------|----------|---------|------|
-//! | `reflectance`     | spectrum/texture | 0.5 | albedo in [0, 1] |
+//! ## Parameters
 //!
-//! Plugin names: `diffuse` (Mitsuba 0.6 and 3); the 0.6 alias `lambertian` is left to the
-//! loader. One-sided as in Mitsuba 3: black when either direction is below the surface (wrap in
-//! `twosided` for both sides). Known limits: none.
+//! | parameter | type | default | unit | meaning |
+//! |---|---|---|---|---|
+//! | `reflectance` | spectrum or texture | 0.5 | — | albedo |
+//!
+//! One-sided as in Mitsuba 3: black when either direction is below the surface (wrap in
+//! `twosided` for both sides). Reflectances are clamped to [0, 1]. Known limits: none.
 
-use super::{BsdfSample, BxdfFlags, TransportMode};
-use crate::math::{warp, Pcg32, Vec2, Vec3, INV_PI};
+use super::{BsdfSample, BxdfFlags, Material};
+use crate::math::{warp, Vec2, Vec3, INV_PI};
+use crate::plugin::{declare, Args, DefaultValue, Param, SceneError, SpectrumKind, Ty};
 use crate::spectrum::SampledSpectrum;
+
+declare!(
+    /// The `diffuse` plugin.
+    pub(crate) PLUGIN: Material = Bsdf "diffuse" []
+    "Lambertian reflection"
+    [&[Param::new(
+            "reflectance",
+            Ty::SpectrumTexture(SpectrumKind::Albedo),
+            DefaultValue::Float(0.5),
+        )
+        .doc("albedo")]] load);
+
+fn load(a: &mut Args, _: ()) -> Result<Material, SceneError> {
+    Ok(Material::diffuse(a.spectrum_texture("reflectance")?))
+}
 
 /// Lambertian BSDF with reflectance `r`.
 #[derive(Clone, Debug)]
@@ -31,20 +48,13 @@ impl DiffuseBxdf {
             BxdfFlags::DIFFUSE_REFLECTION
         }
     }
-    pub fn f(&self, wo: Vec3, wi: Vec3, _mode: TransportMode, _rng: &mut Pcg32) -> SampledSpectrum {
+    pub fn f(&self, wo: Vec3, wi: Vec3) -> SampledSpectrum {
         if wo.z <= 0.0 || wi.z <= 0.0 {
             return SampledSpectrum::ZERO;
         }
         self.r * INV_PI
     }
-    pub fn sample_f(
-        &self,
-        wo: Vec3,
-        _uc: f32,
-        u: Vec2,
-        _mode: TransportMode,
-        _rng: &mut Pcg32,
-    ) -> Option<BsdfSample> {
+    pub fn sample_f(&self, wo: Vec3, u: Vec2) -> Option<BsdfSample> {
         if wo.z <= 0.0 {
             return None;
         }
@@ -60,7 +70,7 @@ impl DiffuseBxdf {
             BxdfFlags::DIFFUSE_REFLECTION,
         ))
     }
-    pub fn pdf(&self, wo: Vec3, wi: Vec3, _mode: TransportMode, _rng: &mut Pcg32) -> f32 {
+    pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
         if wo.z <= 0.0 || wi.z <= 0.0 {
             return 0.0;
         }

@@ -212,3 +212,19 @@ impl FilmFresnel {
         }
     }
 }
+
+impl super::fresnel::Fresnel for FilmFresnel {
+    #[inline]
+    fn reflectance(&self, cos: f32) -> (SampledSpectrum, f32) {
+        self.eval(cos)
+    }
+    fn transmission(&self) -> super::fresnel::Transmission {
+        if self.is_conductor() {
+            super::fresnel::Transmission::Absorbed
+        } else {
+            super::fresnel::Transmission::Refract {
+                eta: self.spectral.base_n[0] / self.ext,
+            }
+        }
+    }
+}

@@ -11,9 +11,107 @@
 //!
 //! Index convention: `eta` is n_transmitted / n_incident for light arriving from the side the
 //! normal points to (cos θi > 0); a negative cosine means the other side, where 1/η applies.
+//!
+//! [`Fresnel`] is what a surface asks of its interface: the reflectance at the path's
+//! wavelengths and how light goes on through it. The smooth and microfacet surfaces
+//! ([`super::smooth`], [`super::rough`]) are generic over it; its implementations are the
+//! dielectric and thin-sheet interfaces here, the conductor ([`ConductorFresnel`]), and the thin
+//! film ([`super::filmfresnel::FilmFresnel`]).
 
+use crate::math::Vec3;
 use crate::spectrum::SampledSpectrum;
 use num_complex::Complex32;
+use std::fmt::Debug;
+
+/// How light that is not reflected leaves an interface.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Transmission {
+    /// It does not: it is absorbed (a metal).
+    Absorbed,
+    /// It refracts into a medium of relative index `eta` (interior / exterior).
+    Refract { eta: f32 },
+    /// It passes straight on, undeviated (a thin sheet with parallel faces).
+    Straight,
+}
+
+/// An interface's Fresnel term at one shading point.
+pub trait Fresnel: Clone + Debug {
+    /// Reflectance per wavelength for light meeting the interface at `cos` (signed: negative
+    /// is from inside), and the probability with which sampling should choose reflection (a
+    /// value close to the mean of the reflectances keeps the path weights near 1).
+    fn reflectance(&self, cos: f32) -> (SampledSpectrum, f32);
+
+    /// The reflectance of microfacet `wm` for the pair (wo, wi); by default at wo·wm.
+    fn microfacet(&self, wo: Vec3, _wi: Vec3, wm: Vec3) -> (SampledSpectrum, f32) {
+        self.reflectance(wo.dot(wm))
+    }
+
+    /// What happens to the light that is not reflected.
+    fn transmission(&self) -> Transmission;
+}
+
+/// A smooth boundary between two dielectrics of relative index `eta` (interior / exterior).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DielectricFresnel {
+    pub eta: f32,
+}
+
+impl Fresnel for DielectricFresnel {
+    #[inline]
+    fn reflectance(&self, cos: f32) -> (SampledSpectrum, f32) {
+        let f = fresnel_dielectric(cos, self.eta);
+        (SampledSpectrum::splat(f), f)
+    }
+
+    /// Mathematically F(wo·wm) = F(wi·wm) for a refraction pair; evaluating it from the
+    /// optically thinner side avoids the cancellation in cos θt near total internal
+    /// reflection, which keeps f reciprocal to f32 precision.
+    #[inline]
+    fn microfacet(&self, wo: Vec3, wi: Vec3, wm: Vec3) -> (SampledSpectrum, f32) {
+        let w = if (wo.z > 0.0) == (self.eta >= 1.0) {
+            wo
+        } else {
+            wi
+        };
+        self.reflectance(w.dot(wm))
+    }
+
+    fn transmission(&self) -> Transmission {
+        Transmission::Refract { eta: self.eta }
+    }
+}
+
+/// The two parallel faces of a thin dielectric sheet of relative index `eta`, with every
+/// internal reflection summed incoherently: R' = R + T²R / (1 − R²) from the single-face
+/// R = F(|cos θ|, η), T = 1 − R; what is not reflected passes straight through.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ThinSheetFresnel {
+    pub eta: f32,
+}
+
+impl ThinSheetFresnel {
+    /// Reflectance of the sheet including interreflections.
+    pub fn sheet_reflectance(&self, cos: f32) -> f32 {
+        let r = fresnel_dielectric(cos.abs(), self.eta);
+        if r < 1.0 {
+            let t = 1.0 - r;
+            r + t * t * r / (1.0 - r * r)
+        } else {
+            1.0
+        }
+    }
+}
+
+impl Fresnel for ThinSheetFresnel {
+    #[inline]
+    fn reflectance(&self, cos: f32) -> (SampledSpectrum, f32) {
+        let r = self.sheet_reflectance(cos);
+        (SampledSpectrum::splat(r), r)
+    }
+    fn transmission(&self) -> Transmission {
+        Transmission::Straight
+    }
+}
 
 /// s- and p-polarised reflectances (|r_s|², |r_p|²) of a dielectric interface, and the signed
 /// cosine of the refracted direction (opposite sign to `cos_theta_i`, 0 under total internal
@@ -90,6 +188,17 @@ impl ConductorFresnel {
             ConductorFresnel::Mirror => SampledSpectrum::ONE,
             ConductorFresnel::Complex { eta, k } => fresnel_conductor(cos_theta_i, *eta, *k),
         }
+    }
+}
+
+impl Fresnel for ConductorFresnel {
+    #[inline]
+    fn reflectance(&self, cos: f32) -> (SampledSpectrum, f32) {
+        // Metals only reflect, so the choice probability is never used for a lobe choice.
+        (self.eval(cos), 1.0)
+    }
+    fn transmission(&self) -> Transmission {
+        Transmission::Absorbed
     }
 }
 

@@ -1,37 +1,22 @@
 //! Materials: BSDF parameters as textures, evaluated per shading point into a [`Bxdf`].
 //!
-//! Each variant mirrors a Mitsuba BSDF plugin (see the plugin's file in this folder for its
-//! model and parameter table); the constructors take Mitsuba's parameters and fill in the
-//! derived constants (relative index, the diffuse Fresnel average of the plastics). Defaults are
-//! Mitsuba 3's and are exposed as constants for the scene loader.
+//! The plugins build these (each plugin's file in this folder has its model, manual and
+//! loader); the nine interface plugins are all a [`Surface`]: an [`Interface`] (dielectric,
+//! thin sheet, conductor or thin film) that is smooth or has a [`Roughness`].
 
 use super::absorption::AbsorptionBxdf;
-use super::conductor::ConductorBxdf;
-use super::dielectric::DielectricBxdf;
 use super::diffuse::DiffuseBxdf;
-use super::filmmaterial::FilmMaterial;
-use super::fresnel::{fresnel_diffuse_reflectance, ConductorFresnel};
+use super::film::FilmSpec;
+use super::fresnel::{DielectricFresnel, ThinSheetFresnel};
 use super::layered::{LayeredBxdf, Medium, MAX_INTERFACES};
 use super::microfacet::{MicrofacetDistribution, MicrofacetType};
+use super::params::conductor_fresnel;
 use super::plastic::PlasticBxdf;
-use super::roughconductor::RoughConductorBxdf;
-use super::roughdielectric::RoughDielectricBxdf;
-use super::roughplastic::RoughPlasticBxdf;
-use super::thindielectric::ThinDielectricBxdf;
+use super::rough::Rough;
+use super::smooth::Smooth;
 use super::Bxdf;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
 use crate::texture::{FloatTexture, SpectrumTexture, TexCoord};
-
-/// Default interior index of `dielectric`/`roughdielectric`/`thindielectric` (BK7).
-pub const DEFAULT_INT_IOR: f32 = 1.5046;
-/// Default exterior index (air).
-pub const DEFAULT_EXT_IOR: f32 = 1.000277;
-/// Default interior index of `plastic`/`roughplastic` (polypropylene).
-pub const PLASTIC_INT_IOR: f32 = 1.49;
-/// Default roughness α of the rough plugins.
-pub const DEFAULT_ALPHA: f32 = 0.1;
-/// Default microfacet distribution of the rough plugins.
-pub const DEFAULT_DISTRIBUTION: MicrofacetType = MicrofacetType::Beckmann;
 
 /// Complex index of refraction of a conductor (absolute; divided by `ext_ior` on evaluation).
 #[derive(Clone, Debug)]
@@ -41,72 +26,125 @@ pub struct ConductorIor {
     pub ext_ior: f32,
 }
 
+/// A microfacet roughness: distribution and α along u and v.
+#[derive(Clone, Debug)]
+pub struct Roughness {
+    pub distribution: MicrofacetType,
+    pub alpha_u: FloatTexture,
+    pub alpha_v: FloatTexture,
+}
+
+impl Roughness {
+    fn eval(&self, tc: &TexCoord) -> MicrofacetDistribution {
+        MicrofacetDistribution::new(
+            self.distribution,
+            self.alpha_u.eval(tc),
+            self.alpha_v.eval(tc),
+        )
+    }
+}
+
+/// What an interface is made of.
+#[derive(Clone, Debug)]
+pub enum Interface {
+    /// Two dielectrics of relative index `eta` = interior / exterior.
+    Dielectric { eta: f32 },
+    /// A thin sheet of relative index `eta` (light passes straight through).
+    ThinSheet { eta: f32 },
+    /// A metal; `None` is a perfect mirror (`material = "none"`).
+    Conductor(Option<ConductorIor>),
+    /// A thin film over a dielectric or a metal.
+    Film(Box<FilmSpec>),
+    /// An interference stack over a dielectric or a metal.
+    Stack(Box<super::filmstack::StackSpec>),
+}
+
+/// A smooth or rough interface with its non-physical factors.
+#[derive(Clone, Debug)]
+pub struct Surface {
+    pub interface: Interface,
+    /// `None`: smooth.
+    pub rough: Option<Roughness>,
+    pub specular_reflectance: SpectrumTexture,
+    /// Unused where the interface absorbs what it does not reflect.
+    pub specular_transmittance: SpectrumTexture,
+}
+
+impl Surface {
+    /// The BSDF at a shading point.
+    pub fn eval(&self, tc: &TexCoord, wl: &SampledWavelengths) -> Bxdf {
+        let r_s = self.specular_reflectance.eval(tc, wl);
+        let t_s = self.specular_transmittance.eval(tc, wl);
+        let d = self.rough.as_ref().map(|r| r.eval(tc));
+        match (&self.interface, d) {
+            (Interface::Dielectric { eta }, None) => {
+                Bxdf::Dielectric(Smooth::new(DielectricFresnel { eta: *eta }, r_s, t_s))
+            }
+            (Interface::Dielectric { eta }, Some(d)) => {
+                Bxdf::RoughDielectric(Rough::new(d, DielectricFresnel { eta: *eta }, r_s, t_s))
+            }
+            (Interface::ThinSheet { eta }, _) => {
+                Bxdf::ThinDielectric(Smooth::new(ThinSheetFresnel { eta: *eta }, r_s, t_s))
+            }
+            (Interface::Conductor(ior), None) => {
+                Bxdf::Conductor(Smooth::new(conductor_fresnel(ior, wl), r_s, t_s))
+            }
+            (Interface::Conductor(ior), Some(d)) => {
+                Bxdf::RoughConductor(Rough::new(d, conductor_fresnel(ior, wl), r_s, t_s))
+            }
+            (Interface::Film(f), None) => Bxdf::ThinFilm(Smooth::new(f.fresnel(tc, wl), r_s, t_s)),
+            (Interface::Film(f), Some(d)) => {
+                Bxdf::RoughThinFilm(Rough::new(d, f.fresnel(tc, wl), r_s, t_s))
+            }
+            (Interface::Stack(f), None) => {
+                Bxdf::FilmStack(Smooth::new(f.fresnel(tc, wl), r_s, t_s))
+            }
+            (Interface::Stack(f), Some(d)) => {
+                Bxdf::RoughFilmStack(Rough::new(d, f.fresnel(tc, wl), r_s, t_s))
+            }
+        }
+    }
+
+    /// Whether light can pass through.
+    pub fn transmits(&self) -> bool {
+        match &self.interface {
+            Interface::Dielectric { .. } | Interface::ThinSheet { .. } => true,
+            Interface::Conductor(_) => false,
+            Interface::Film(f) => f.transmits(),
+            Interface::Stack(f) => f.transmits(),
+        }
+    }
+}
+
+/// `plastic` / `roughplastic` parameters.
+#[derive(Clone, Debug)]
+pub struct PlasticMaterial {
+    /// The coat's distribution and α; `None`: smooth.
+    pub rough: Option<(MicrofacetType, FloatTexture)>,
+    pub eta: f32,
+    pub diffuse_reflectance: SpectrumTexture,
+    pub specular_reflectance: SpectrumTexture,
+    pub nonlinear: bool,
+    /// Cosine-weighted internal reflectance of the coating, F̄(1/η).
+    pub fdr_int: f32,
+}
+
 /// A material.
 #[derive(Clone, Debug)]
 pub enum Material {
     /// `diffuse`.
     Diffuse { reflectance: SpectrumTexture },
-    /// `dielectric`; `eta` = int_ior / ext_ior.
-    Dielectric {
-        eta: f32,
-        specular_reflectance: SpectrumTexture,
-        specular_transmittance: SpectrumTexture,
-    },
-    /// `thindielectric`; `eta` = int_ior / ext_ior.
-    ThinDielectric {
-        eta: f32,
-        specular_reflectance: SpectrumTexture,
-        specular_transmittance: SpectrumTexture,
-    },
-    /// `roughdielectric`.
-    RoughDielectric {
-        distribution: MicrofacetType,
-        alpha_u: FloatTexture,
-        alpha_v: FloatTexture,
-        eta: f32,
-        specular_reflectance: SpectrumTexture,
-        specular_transmittance: SpectrumTexture,
-    },
-    /// `conductor`; `ior: None` is a perfect mirror (`material = "none"`).
-    Conductor {
-        ior: Option<ConductorIor>,
-        specular_reflectance: SpectrumTexture,
-    },
-    /// `roughconductor`.
-    RoughConductor {
-        distribution: MicrofacetType,
-        alpha_u: FloatTexture,
-        alpha_v: FloatTexture,
-        ior: Option<ConductorIor>,
-        specular_reflectance: SpectrumTexture,
-    },
-    /// `plastic`; build with [`Material::plastic`], which computes `fdr_int`.
-    Plastic {
-        eta: f32,
-        diffuse_reflectance: SpectrumTexture,
-        specular_reflectance: SpectrumTexture,
-        nonlinear: bool,
-        /// Cosine-weighted internal reflectance of the coating, F̄(1/η).
-        fdr_int: f32,
-    },
-    /// `roughplastic`; build with [`Material::rough_plastic`], which computes `fdr_int`.
-    RoughPlastic {
-        distribution: MicrofacetType,
-        alpha: FloatTexture,
-        eta: f32,
-        diffuse_reflectance: SpectrumTexture,
-        specular_reflectance: SpectrumTexture,
-        nonlinear: bool,
-        fdr_int: f32,
-    },
+    /// The interface plugins: `dielectric`, `roughdielectric`, `thindielectric`, `conductor`,
+    /// `roughconductor`, `thinfilm`, `roughthinfilm`, `thinfilmconductor`,
+    /// `roughthinfilmconductor` (and the thesis's aliases).
+    Surface(Box<Surface>),
+    /// `plastic`, `roughplastic`.
+    Plastic(Box<PlasticMaterial>),
     /// `twosided`: `front` on both sides, or `back` on the back when given.
     TwoSided {
         front: Box<Material>,
         back: Option<Box<Material>>,
     },
-    /// `thinfilm`, `roughthinfilm`, `thinfilmconductor`, `roughthinfilmconductor` (and the
-    /// seed's aliases).
-    ThinFilm(Box<FilmMaterial>),
     /// `bumpmap`: `inner` with its normal displaced by `scale`·`height` (see `bumpmap.rs`).
     BumpMap {
         height: FloatTexture,
@@ -115,7 +153,7 @@ pub enum Material {
     },
     /// `normalmap`: a tangent-space normal from an image or a `scales` relief.
     NormalMap {
-        source: super::bumpmap::NormalSource,
+        source: crate::texture::NormalSource,
         strength: f32,
         inner: Box<Material>,
     },
@@ -133,8 +171,7 @@ pub enum Material {
         sigma_a: SpectrumTexture,
         thickness: f32,
     },
-    /// `null` (for now: black; an index-matched pass-through would be `ThinDielectric` with
-    /// η = 1).
+    /// `null`: the surface only marks a boundary; paths pass through it unchanged.
     Null,
 }
 
@@ -148,10 +185,6 @@ pub struct LayerMedium {
     pub g: f32,
 }
 
-fn splat(v: f32) -> SpectrumTexture {
-    SpectrumTexture::Constant(Spectrum::Constant(v))
-}
-
 impl Material {
     /// `diffuse` with the given reflectance (Mitsuba's default is 0.5).
     pub fn diffuse(reflectance: SpectrumTexture) -> Material {
@@ -159,221 +192,48 @@ impl Material {
     }
     /// `diffuse` with Mitsuba's defaults.
     pub fn default_diffuse() -> Material {
-        Material::diffuse(splat(0.5))
-    }
-    /// `dielectric` (Mitsuba defaults: 1.5046, 1.000277, factors 1).
-    pub fn dielectric(
-        int_ior: f32,
-        ext_ior: f32,
-        specular_reflectance: SpectrumTexture,
-        specular_transmittance: SpectrumTexture,
-    ) -> Material {
-        Material::Dielectric {
-            eta: int_ior / ext_ior,
-            specular_reflectance,
-            specular_transmittance,
-        }
-    }
-    /// `thindielectric` (same defaults as `dielectric`).
-    pub fn thin_dielectric(
-        int_ior: f32,
-        ext_ior: f32,
-        specular_reflectance: SpectrumTexture,
-        specular_transmittance: SpectrumTexture,
-    ) -> Material {
-        Material::ThinDielectric {
-            eta: int_ior / ext_ior,
-            specular_reflectance,
-            specular_transmittance,
-        }
-    }
-    /// `roughdielectric` (defaults: beckmann, α = 0.1, 1.5046, 1.000277, factors 1).
-    #[allow(clippy::too_many_arguments)]
-    pub fn rough_dielectric(
-        distribution: MicrofacetType,
-        alpha_u: FloatTexture,
-        alpha_v: FloatTexture,
-        int_ior: f32,
-        ext_ior: f32,
-        specular_reflectance: SpectrumTexture,
-        specular_transmittance: SpectrumTexture,
-    ) -> Material {
-        Material::RoughDielectric {
-            distribution,
-            alpha_u,
-            alpha_v,
-            eta: int_ior / ext_ior,
-            specular_reflectance,
-            specular_transmittance,
-        }
-    }
-    /// `conductor` (defaults: mirror, factor 1).
-    pub fn conductor(ior: Option<ConductorIor>, specular_reflectance: SpectrumTexture) -> Material {
-        Material::Conductor {
-            ior,
-            specular_reflectance,
-        }
-    }
-    /// `roughconductor` (defaults: beckmann, α = 0.1, mirror, factor 1).
-    pub fn rough_conductor(
-        distribution: MicrofacetType,
-        alpha_u: FloatTexture,
-        alpha_v: FloatTexture,
-        ior: Option<ConductorIor>,
-        specular_reflectance: SpectrumTexture,
-    ) -> Material {
-        Material::RoughConductor {
-            distribution,
-            alpha_u,
-            alpha_v,
-            ior,
-            specular_reflectance,
-        }
-    }
-    /// `plastic` (defaults: 1.49, 1.000277, diffuse 0.5, specular 1, linear).
-    pub fn plastic(
-        int_ior: f32,
-        ext_ior: f32,
-        diffuse_reflectance: SpectrumTexture,
-        specular_reflectance: SpectrumTexture,
-        nonlinear: bool,
-    ) -> Material {
-        let eta = int_ior / ext_ior;
-        Material::Plastic {
-            eta,
-            diffuse_reflectance,
-            specular_reflectance,
-            nonlinear,
-            fdr_int: fresnel_diffuse_reflectance(1.0 / eta),
-        }
-    }
-    /// `roughplastic` (defaults: beckmann, α = 0.1, 1.49, 1.000277, diffuse 0.5, specular 1).
-    #[allow(clippy::too_many_arguments)]
-    pub fn rough_plastic(
-        distribution: MicrofacetType,
-        alpha: FloatTexture,
-        int_ior: f32,
-        ext_ior: f32,
-        diffuse_reflectance: SpectrumTexture,
-        specular_reflectance: SpectrumTexture,
-        nonlinear: bool,
-    ) -> Material {
-        let eta = int_ior / ext_ior;
-        Material::RoughPlastic {
-            distribution,
-            alpha,
-            eta,
-            diffuse_reflectance,
-            specular_reflectance,
-            nonlinear,
-            fdr_int: fresnel_diffuse_reflectance(1.0 / eta),
-        }
-    }
-    /// `twosided` around `front`, with an optional different `back`.
-    pub fn two_sided(front: Material, back: Option<Material>) -> Material {
-        Material::TwoSided {
-            front: Box::new(front),
-            back: back.map(Box::new),
-        }
+        Material::diffuse(SpectrumTexture::Constant(Spectrum::Constant(0.5)))
     }
 
     /// The BSDF at a shading point, and whether directions below the surface must be mirrored
     /// to the front (`twosided`). `front_side`: whether the ray arrives on the side the
-    /// geometric normal points to (selects `back` of a `twosided` with two materials).
-    pub fn eval(&self, tc: &TexCoord, wl: &SampledWavelengths, front_side: bool) -> (Bxdf, bool) {
+    /// geometric normal points to (selects `back` of a `twosided` with two materials). `seed`
+    /// feeds the random numbers of stochastic BSDFs (the layered walk), which hash it with the
+    /// directions they are asked about; it should differ from vertex to vertex and path to path.
+    pub fn eval(
+        &self,
+        tc: &TexCoord,
+        wl: &SampledWavelengths,
+        front_side: bool,
+        seed: u64,
+    ) -> (Bxdf, bool) {
         let sp = |t: &SpectrumTexture| t.eval(tc, wl);
-        let dist = |kind: MicrofacetType, au: &FloatTexture, av: &FloatTexture| {
-            MicrofacetDistribution::new(kind, au.eval(tc), av.eval(tc))
-        };
-        let fresnel = |ior: &Option<ConductorIor>| match ior {
-            None => ConductorFresnel::Mirror,
-            Some(c) => ConductorFresnel::Complex {
-                eta: c.eta.sample(wl) / c.ext_ior,
-                k: c.k.sample(wl) / c.ext_ior,
-            },
-        };
         let bxdf = match self {
             Material::Diffuse { reflectance } => {
                 Bxdf::Diffuse(DiffuseBxdf::new(sp(reflectance).clamp(0.0, 1.0)))
             }
-            Material::Dielectric {
-                eta,
-                specular_reflectance: r,
-                specular_transmittance: t,
-            } => Bxdf::Dielectric(DielectricBxdf::new(*eta, sp(r), sp(t))),
-            Material::ThinDielectric {
-                eta,
-                specular_reflectance: r,
-                specular_transmittance: t,
-            } => Bxdf::ThinDielectric(ThinDielectricBxdf::new(*eta, sp(r), sp(t))),
-            Material::RoughDielectric {
-                distribution,
-                alpha_u,
-                alpha_v,
-                eta,
-                specular_reflectance: r,
-                specular_transmittance: t,
-            } => Bxdf::RoughDielectric(RoughDielectricBxdf::new(
-                dist(*distribution, alpha_u, alpha_v),
-                *eta,
-                sp(r),
-                sp(t),
-            )),
-            Material::Conductor {
-                ior,
-                specular_reflectance: r,
-            } => Bxdf::Conductor(ConductorBxdf::new(fresnel(ior), sp(r))),
-            Material::RoughConductor {
-                distribution,
-                alpha_u,
-                alpha_v,
-                ior,
-                specular_reflectance: r,
-            } => Bxdf::RoughConductor(RoughConductorBxdf::new(
-                dist(*distribution, alpha_u, alpha_v),
-                fresnel(ior),
-                sp(r),
-            )),
-            Material::Plastic {
-                eta,
-                diffuse_reflectance: d,
-                specular_reflectance: r,
-                nonlinear,
-                fdr_int,
-            } => Bxdf::Plastic(PlasticBxdf::new(
-                *eta,
-                sp(d).clamp(0.0, 1.0),
-                sp(r),
-                *fdr_int,
-                *nonlinear,
-            )),
-            Material::RoughPlastic {
-                distribution,
-                alpha,
-                eta,
-                diffuse_reflectance: d,
-                specular_reflectance: r,
-                nonlinear,
-                fdr_int,
-            } => Bxdf::RoughPlastic(RoughPlasticBxdf::new(
-                dist(*distribution, alpha, alpha),
-                *eta,
-                sp(d).clamp(0.0, 1.0),
-                sp(r),
-                *fdr_int,
-                *nonlinear,
+            Material::Surface(s) => s.eval(tc, wl),
+            Material::Plastic(p) => Bxdf::Plastic(PlasticBxdf::new(
+                p.rough.as_ref().map(|(kind, a)| {
+                    let a = a.eval(tc);
+                    MicrofacetDistribution::new(*kind, a, a)
+                }),
+                p.eta,
+                sp(&p.diffuse_reflectance).clamp(0.0, 1.0),
+                sp(&p.specular_reflectance),
+                p.fdr_int,
+                p.nonlinear,
             )),
             Material::TwoSided { front, back } => {
                 let m = match back {
                     Some(b) if !front_side => b,
                     _ => front,
                 };
-                return (m.eval(tc, wl, true).0, true);
+                return (m.eval(tc, wl, true, seed).0, true);
             }
-            Material::ThinFilm(m) => m.eval(tc, wl),
             // Bump and normal maps change the frame (`shading_frame`), not the BSDF.
             Material::BumpMap { inner, .. } | Material::NormalMap { inner, .. } => {
-                return inner.eval(tc, wl, front_side)
+                return inner.eval(tc, wl, front_side, seed)
             }
             Material::Multilayered {
                 surfaces,
@@ -381,7 +241,10 @@ impl Material {
                 max_depth,
                 closed_form,
             } => {
-                let ifs = surfaces.iter().map(|m| m.eval(tc, wl, true).0);
+                let ifs = surfaces
+                    .iter()
+                    .enumerate()
+                    .map(|(i, m)| m.eval(tc, wl, true, seed ^ (i as u64 + 1)).0);
                 let med: [Medium; MAX_INTERFACES - 1] =
                     std::array::from_fn(|i| match media.get(i) {
                         Some(m) => Medium {
@@ -392,7 +255,7 @@ impl Material {
                         None => Medium::absorbing(SampledSpectrum::ZERO),
                     });
                 let med = &med[..media.len().min(MAX_INTERFACES - 1)];
-                match LayeredBxdf::new(ifs, med, *max_depth, *closed_form) {
+                match LayeredBxdf::new(ifs, med, *max_depth, *closed_form, seed) {
                     Some(l) => Bxdf::Layered(Box::new(l)),
                     None => Bxdf::Black,
                 }
@@ -414,10 +277,7 @@ impl Material {
     /// Whether every lobe is a Dirac delta (no point in light sampling).
     pub fn has_delta_only(&self) -> bool {
         match self {
-            Material::Dielectric { .. }
-            | Material::ThinDielectric { .. }
-            | Material::Conductor { .. } => true,
-            Material::ThinFilm(m) => m.has_delta_only(),
+            Material::Surface(s) => s.rough.is_none(),
             Material::TwoSided { front, back } => {
                 front.has_delta_only() && back.as_ref().is_none_or(|b| b.has_delta_only())
             }
@@ -431,11 +291,8 @@ impl Material {
     /// Whether light can pass through (the surface bounds a medium or is see-through).
     pub fn has_transmission(&self) -> bool {
         match self {
-            Material::Dielectric { .. }
-            | Material::ThinDielectric { .. }
-            | Material::RoughDielectric { .. }
-            | Material::Null => true,
-            Material::ThinFilm(m) => m.has_transmission(),
+            Material::Surface(s) => s.transmits(),
+            Material::Null => true,
             Material::Multilayered { surfaces, .. } => {
                 surfaces.iter().all(|m| m.has_transmission())
             }
@@ -450,7 +307,7 @@ impl Material {
     }
 }
 
-impl Default for Material {
+impl std::default::Default for Material {
     /// Mitsuba's default BSDF: `diffuse` with reflectance 0.5.
     fn default() -> Material {
         Material::default_diffuse()

@@ -12,18 +12,26 @@ pub mod bumpmap;
 pub mod conductor;
 pub mod dielectric;
 pub mod diffuse;
+pub mod film;
 pub mod filmfresnel;
-pub mod filmmaterial;
+pub mod filmstack;
+#[cfg(test)]
+mod filmstack_tests;
 pub mod fresnel;
-pub mod inspect;
 pub mod layered;
 pub mod material;
 pub mod microfacet;
+pub mod normalmap;
+pub mod null;
+pub(crate) mod params;
 pub mod plastic;
+pub mod rough;
 pub mod roughconductor;
 pub mod roughdielectric;
 pub mod roughplastic;
 pub mod roughthinfilm;
+pub mod roughthinfilmconductor;
+pub mod smooth;
 pub mod testing;
 #[cfg(test)]
 mod tests;
@@ -32,11 +40,17 @@ pub mod thinfilm;
 #[cfg(test)]
 mod thinfilm_tests;
 pub mod thinfilmconductor;
+pub mod twosided;
 
-pub use material::Material;
+pub use material::{Interface, Material, Surface};
 
-use crate::math::{Frame, Pcg32, Vec2, Vec3};
+use crate::math::{Frame, Vec2, Vec3};
 use crate::spectrum::SampledSpectrum;
+use filmfresnel::FilmFresnel;
+use filmstack::StackFresnel;
+use fresnel::{ConductorFresnel, DielectricFresnel, ThinSheetFresnel};
+use rough::Rough;
+use smooth::Smooth;
 
 /// Whether radiance (from lights) or importance (from the camera) is being transported; the
 /// two differ for refraction, where radiance is scaled by 1/η² and importance is not.
@@ -62,6 +76,10 @@ impl BxdfFlags {
     pub const SPECULAR_REFLECTION: BxdfFlags = BxdfFlags(1 | 16);
     pub const GLOSSY_TRANSMISSION: BxdfFlags = BxdfFlags(2 | 8);
     pub const SPECULAR_TRANSMISSION: BxdfFlags = BxdfFlags(2 | 16);
+    /// The lobes `f` and `pdf` can evaluate.
+    pub const NON_SPECULAR: BxdfFlags = BxdfFlags(4 | 8);
+    /// The kinds of lobe (diffuse, glossy, specular), without their directions.
+    pub const KINDS: BxdfFlags = BxdfFlags(4 | 8 | 16);
 
     /// Whether all bits of `o` are set.
     #[inline]
@@ -81,7 +99,12 @@ impl BxdfFlags {
     /// Whether there is a non-delta lobe (one that `f` and `pdf` can evaluate).
     #[inline]
     pub fn is_non_specular(self) -> bool {
-        self.intersects(BxdfFlags(4 | 8))
+        self.intersects(BxdfFlags::NON_SPECULAR)
+    }
+    /// The bits of `self` that `o` also has.
+    #[inline]
+    pub fn and(self, o: BxdfFlags) -> BxdfFlags {
+        BxdfFlags(self.0 & o.0)
     }
 }
 
@@ -136,21 +159,31 @@ impl BsdfSample {
     }
 }
 
-/// A BSDF evaluated at one shading point (local frame).
+/// A BSDF evaluated at one shading point (local frame). The interface plugins are two surfaces
+/// ([`Smooth`], [`Rough`]) over four Fresnel terms.
 #[derive(Clone, Debug)]
 pub enum Bxdf {
     Diffuse(diffuse::DiffuseBxdf),
-    Dielectric(dielectric::DielectricBxdf),
-    ThinDielectric(thindielectric::ThinDielectricBxdf),
-    RoughDielectric(roughdielectric::RoughDielectricBxdf),
-    Conductor(conductor::ConductorBxdf),
-    RoughConductor(roughconductor::RoughConductorBxdf),
+    /// `dielectric`.
+    Dielectric(Smooth<DielectricFresnel>),
+    /// `thindielectric`.
+    ThinDielectric(Smooth<ThinSheetFresnel>),
+    /// `conductor`.
+    Conductor(Smooth<ConductorFresnel>),
+    /// `thinfilm` and `thinfilmconductor`.
+    ThinFilm(Smooth<FilmFresnel>),
+    /// `roughdielectric`.
+    RoughDielectric(Rough<DielectricFresnel>),
+    /// `roughconductor`.
+    RoughConductor(Rough<ConductorFresnel>),
+    /// `roughthinfilm` and `roughthinfilmconductor`.
+    RoughThinFilm(Rough<FilmFresnel>),
+    /// `filmstack`, smooth.
+    FilmStack(Smooth<StackFresnel>),
+    /// `filmstack`, rough.
+    RoughFilmStack(Rough<StackFresnel>),
+    /// `plastic` and `roughplastic`.
     Plastic(plastic::PlasticBxdf),
-    RoughPlastic(roughplastic::RoughPlasticBxdf),
-    ThinFilm(thinfilm::ThinFilmBxdf),
-    RoughThinFilm(roughthinfilm::RoughThinFilmBxdf),
-    ThinFilmConductor(thinfilmconductor::ThinFilmConductorBxdf),
-    RoughThinFilmConductor(thinfilmconductor::RoughThinFilmConductorBxdf),
     Absorption(absorption::AbsorptionBxdf),
     /// `multilayered` (boxed: it holds its interfaces inline).
     Layered(Box<layered::LayeredBxdf>),
@@ -158,54 +191,121 @@ pub enum Bxdf {
     Black,
 }
 
-macro_rules! dispatch {
-    ($s:expr, $b:ident => $e:expr, $black:expr) => {
-        match $s {
-            Bxdf::Diffuse($b) => $e,
-            Bxdf::Dielectric($b) => $e,
-            Bxdf::ThinDielectric($b) => $e,
-            Bxdf::RoughDielectric($b) => $e,
-            Bxdf::Conductor($b) => $e,
-            Bxdf::RoughConductor($b) => $e,
-            Bxdf::Plastic($b) => $e,
-            Bxdf::RoughPlastic($b) => $e,
-            Bxdf::ThinFilm($b) => $e,
-            Bxdf::RoughThinFilm($b) => $e,
-            Bxdf::ThinFilmConductor($b) => $e,
-            Bxdf::RoughThinFilmConductor($b) => $e,
-            Bxdf::Absorption($b) => $e,
-            Bxdf::Layered($b) => $e,
-            Bxdf::Black => $black,
-        }
-    };
-}
-
 impl Bxdf {
-    /// The lobes this BSDF has.
-    pub fn flags(&self) -> BxdfFlags {
-        dispatch!(self, b => b.flags(), BxdfFlags::NONE)
+    /// `dielectric` of relative index `eta` with reflectance and transmittance factors.
+    pub fn dielectric(eta: f32, r_s: SampledSpectrum, t_s: SampledSpectrum) -> Bxdf {
+        Bxdf::Dielectric(Smooth::new(DielectricFresnel { eta }, r_s, t_s))
+    }
+    /// `roughdielectric`.
+    pub fn rough_dielectric(
+        d: microfacet::MicrofacetDistribution,
+        eta: f32,
+        r_s: SampledSpectrum,
+        t_s: SampledSpectrum,
+    ) -> Bxdf {
+        Bxdf::RoughDielectric(Rough::new(d, DielectricFresnel { eta }, r_s, t_s))
+    }
+    /// `conductor`.
+    pub fn conductor(fresnel: ConductorFresnel, r_s: SampledSpectrum) -> Bxdf {
+        Bxdf::Conductor(Smooth::new(fresnel, r_s, SampledSpectrum::ONE))
+    }
+    /// `roughconductor`.
+    pub fn rough_conductor(
+        d: microfacet::MicrofacetDistribution,
+        fresnel: ConductorFresnel,
+        r_s: SampledSpectrum,
+    ) -> Bxdf {
+        Bxdf::RoughConductor(Rough::new(d, fresnel, r_s, SampledSpectrum::ONE))
     }
 
-    /// BSDF value (no cosine) for the pair; 0 for delta lobes.
-    pub fn f(&self, wo: Vec3, wi: Vec3, mode: TransportMode, rng: &mut Pcg32) -> SampledSpectrum {
-        dispatch!(self, b => b.f(wo, wi, mode, rng), SampledSpectrum::ZERO)
+    /// Gives a stochastic BSDF a new seed for its random numbers (others are unchanged): its
+    /// value at a pair is a deterministic function of the seed, so averaging repeated
+    /// evaluations of one pair needs a new seed each time.
+    pub fn reseed(&mut self, seed: u64) {
+        if let Bxdf::Layered(l) = self {
+            l.seed = seed;
+        }
+    }
+
+    /// The lobes this BSDF has.
+    pub fn flags(&self) -> BxdfFlags {
+        match self {
+            Bxdf::Diffuse(b) => b.flags(),
+            Bxdf::Dielectric(b) => b.flags(),
+            Bxdf::ThinDielectric(b) => b.flags(),
+            Bxdf::Conductor(b) => b.flags(),
+            Bxdf::ThinFilm(b) => b.flags(),
+            Bxdf::RoughDielectric(b) => b.flags(),
+            Bxdf::RoughConductor(b) => b.flags(),
+            Bxdf::RoughThinFilm(b) => b.flags(),
+            Bxdf::FilmStack(b) => b.flags(),
+            Bxdf::RoughFilmStack(b) => b.flags(),
+            Bxdf::Plastic(b) => b.flags(),
+            Bxdf::Absorption(b) => b.flags(),
+            Bxdf::Layered(b) => b.flags(),
+            Bxdf::Black => BxdfFlags::NONE,
+        }
+    }
+
+    /// BSDF value (no cosine) for the pair; 0 for delta lobes. Deterministic: a stochastic
+    /// BSDF draws its random numbers from a hash of its seed and the pair.
+    pub fn f(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> SampledSpectrum {
+        match self {
+            Bxdf::Diffuse(b) => b.f(wo, wi),
+            Bxdf::RoughDielectric(b) => b.f(wo, wi, mode),
+            Bxdf::RoughConductor(b) => b.f(wo, wi, mode),
+            Bxdf::RoughThinFilm(b) => b.f(wo, wi, mode),
+            Bxdf::RoughFilmStack(b) => b.f(wo, wi, mode),
+            Bxdf::Plastic(b) => b.f(wo, wi),
+            Bxdf::Absorption(b) => b.f(wo, wi),
+            Bxdf::Layered(b) => b.f(wo, wi, mode),
+            Bxdf::Dielectric(_)
+            | Bxdf::ThinDielectric(_)
+            | Bxdf::Conductor(_)
+            | Bxdf::ThinFilm(_)
+            | Bxdf::FilmStack(_)
+            | Bxdf::Black => SampledSpectrum::ZERO,
+        }
     }
 
     /// Samples `wi` given `wo`; `uc` chooses a lobe, `u` the direction.
-    pub fn sample_f(
-        &self,
-        wo: Vec3,
-        uc: f32,
-        u: Vec2,
-        mode: TransportMode,
-        rng: &mut Pcg32,
-    ) -> Option<BsdfSample> {
-        dispatch!(self, b => b.sample_f(wo, uc, u, mode, rng), None)
+    pub fn sample_f(&self, wo: Vec3, uc: f32, u: Vec2, mode: TransportMode) -> Option<BsdfSample> {
+        match self {
+            Bxdf::Diffuse(b) => b.sample_f(wo, u),
+            Bxdf::Dielectric(b) => b.sample_f(wo, uc, mode),
+            Bxdf::ThinDielectric(b) => b.sample_f(wo, uc, mode),
+            Bxdf::Conductor(b) => b.sample_f(wo, uc, mode),
+            Bxdf::ThinFilm(b) => b.sample_f(wo, uc, mode),
+            Bxdf::RoughDielectric(b) => b.sample_f(wo, uc, u, mode),
+            Bxdf::RoughConductor(b) => b.sample_f(wo, uc, u, mode),
+            Bxdf::RoughThinFilm(b) => b.sample_f(wo, uc, u, mode),
+            Bxdf::FilmStack(b) => b.sample_f(wo, uc, mode),
+            Bxdf::RoughFilmStack(b) => b.sample_f(wo, uc, u, mode),
+            Bxdf::Plastic(b) => b.sample_f(wo, uc, u),
+            Bxdf::Absorption(b) => b.sample_f(wo, u),
+            Bxdf::Layered(b) => b.sample_f(wo, uc, u, mode),
+            Bxdf::Black => None,
+        }
     }
 
     /// Solid-angle density with which `sample_f` picks `wi` (non-delta lobes only).
-    pub fn pdf(&self, wo: Vec3, wi: Vec3, mode: TransportMode, rng: &mut Pcg32) -> f32 {
-        dispatch!(self, b => b.pdf(wo, wi, mode, rng), 0.0)
+    pub fn pdf(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> f32 {
+        match self {
+            Bxdf::Diffuse(b) => b.pdf(wo, wi),
+            Bxdf::RoughDielectric(b) => b.pdf(wo, wi),
+            Bxdf::RoughConductor(b) => b.pdf(wo, wi),
+            Bxdf::RoughThinFilm(b) => b.pdf(wo, wi),
+            Bxdf::RoughFilmStack(b) => b.pdf(wo, wi),
+            Bxdf::Plastic(b) => b.pdf(wo, wi),
+            Bxdf::Absorption(b) => b.pdf(wo, wi),
+            Bxdf::Layered(b) => b.pdf(wo, wi, mode),
+            Bxdf::Dielectric(_)
+            | Bxdf::ThinDielectric(_)
+            | Bxdf::Conductor(_)
+            | Bxdf::ThinFilm(_)
+            | Bxdf::FilmStack(_)
+            | Bxdf::Black => 0.0,
+        }
     }
 }
 
@@ -239,27 +339,20 @@ impl Bsdf {
     }
 
     /// BSDF value for world-space directions.
-    pub fn f(&self, wo: Vec3, wi: Vec3, mode: TransportMode, rng: &mut Pcg32) -> SampledSpectrum {
+    pub fn f(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> SampledSpectrum {
         let (mut wo, mut wi) = (self.local(wo), self.local(wi));
         let s = self.side(wo);
         wo.z *= s;
         wi.z *= s;
-        self.bxdf.f(wo, wi, mode, rng)
+        self.bxdf.f(wo, wi, mode)
     }
 
     /// Samples a world-space incident direction.
-    pub fn sample_f(
-        &self,
-        wo: Vec3,
-        uc: f32,
-        u: Vec2,
-        mode: TransportMode,
-        rng: &mut Pcg32,
-    ) -> Option<BsdfSample> {
+    pub fn sample_f(&self, wo: Vec3, uc: f32, u: Vec2, mode: TransportMode) -> Option<BsdfSample> {
         let mut wo = self.local(wo);
         let s = self.side(wo);
         wo.z *= s;
-        let mut bs = self.bxdf.sample_f(wo, uc, u, mode, rng)?;
+        let mut bs = self.bxdf.sample_f(wo, uc, u, mode)?;
         if !(bs.pdf > 0.0) || !bs.f.is_finite() || bs.wi.z == 0.0 {
             return None;
         }
@@ -269,11 +362,11 @@ impl Bsdf {
     }
 
     /// Density of sampling world-space `wi`.
-    pub fn pdf(&self, wo: Vec3, wi: Vec3, mode: TransportMode, rng: &mut Pcg32) -> f32 {
+    pub fn pdf(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> f32 {
         let (mut wo, mut wi) = (self.local(wo), self.local(wi));
         let s = self.side(wo);
         wo.z *= s;
         wi.z *= s;
-        self.bxdf.pdf(wo, wi, mode, rng)
+        self.bxdf.pdf(wo, wi, mode)
     }
 }

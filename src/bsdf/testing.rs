@@ -88,12 +88,11 @@ pub fn chi2_test_against(
     let (nc, np) = (cfg.cos_bins, cfg.phi_bins);
     let mut obs = vec![0.0f64; nc * np];
     let mut rng = Pcg32::new(cfg.seed, 0x5eed);
-    let mut eval_rng = Pcg32::new(cfg.seed, 0xe7a1);
     let (mut n_delta, mut n_fail) = (0usize, 0usize);
     for _ in 0..cfg.samples {
         let uc = rng.next_f32();
         let u = rng.next_vec2();
-        let Some(bs) = bxdf.sample_f(wo, uc, u, mode, &mut eval_rng) else {
+        let Some(bs) = bxdf.sample_f(wo, uc, u, mode) else {
             n_fail += 1;
             continue;
         };
@@ -110,8 +109,8 @@ pub fn chi2_test_against(
         if !bs.pdf_is_proportional {
             // Sampling and evaluation are the same formulas in f32; 1e-3 relative covers the
             // rounding of recomputing the half vector.
-            let pdf = bxdf.pdf(wo, bs.wi, mode, &mut eval_rng);
-            let f = bxdf.f(wo, bs.wi, mode, &mut eval_rng);
+            let pdf = bxdf.pdf(wo, bs.wi, mode);
+            let f = bxdf.f(wo, bs.wi, mode);
             let close = |a: f32, b: f32| (a - b).abs() <= 1e-3 * a.abs().max(b.abs()) + 1e-12;
             if !close(pdf, bs.pdf) || (0..N).any(|i| !close(f[i], bs.f[i])) {
                 return Err(format!(
@@ -127,7 +126,6 @@ pub fn chi2_test_against(
     let n = cfg.samples as f64;
     let tol = 0.02 / n;
     let mut exp = vec![0.0f64; nc * np];
-    let mut prng = Pcg32::new(cfg.seed, 0x9df);
     for ic in 0..nc {
         for ip in 0..np {
             let c0 = -1.0 + 2.0 * ic as f64 / nc as f64;
@@ -137,7 +135,7 @@ pub fn chi2_test_against(
             let mut g = |c: f64, p: f64| {
                 let s = (1.0 - c * c).max(0.0).sqrt();
                 let w = Vec3::new((s * p.cos()) as f32, (s * p.sin()) as f32, c as f32);
-                density.pdf(wo, w, mode, &mut prng) as f64
+                density.pdf(wo, w, mode) as f64
             };
             exp[ic * np + ip] = n * integrate_cell(&mut g, c0, c1, p0, p1, tol);
         }
@@ -391,11 +389,10 @@ pub fn albedo(
     include_delta: bool,
 ) -> [Estimate; N] {
     let mut rng = Pcg32::new(seed, 0xa1b);
-    let mut eval_rng = Pcg32::new(seed, 0xa1c);
     per_channel(
         |_| {
             let (uc, u) = (rng.next_f32(), rng.next_vec2());
-            match bxdf.sample_f(wo, uc, u, mode, &mut eval_rng) {
+            match bxdf.sample_f(wo, uc, u, mode) {
                 Some(bs) if bs.pdf > 0.0 && (include_delta || !bs.is_specular()) => {
                     let w = bs.wi.z.abs() / bs.pdf;
                     bs.f.0.map(|v| (v * w) as f64)
@@ -416,11 +413,10 @@ pub fn hemispherical_integral(
     seed: u64,
 ) -> [Estimate; N] {
     let mut rng = Pcg32::new(seed, 0x4e1);
-    let mut eval_rng = Pcg32::new(seed, 0x4e2);
     per_channel(
         |_| {
             let wi = warp::square_to_uniform_sphere(rng.next_vec2());
-            let f = bxdf.f(wo, wi, mode, &mut eval_rng);
+            let f = bxdf.f(wo, wi, mode);
             f.0.map(|v| (v * wi.z.abs() * 4.0 * PI) as f64)
         },
         n,
@@ -431,9 +427,8 @@ pub fn hemispherical_integral(
 /// f(b, a) in importance mode (0 when both are below 1e-20, where f32 intermediates run into
 /// subnormals and carry no relative precision, and the value is irrelevant to any render).
 pub fn reciprocity_error(bxdf: &Bxdf, a: Vec3, b: Vec3) -> f32 {
-    let mut rng = Pcg32::new(0, 0);
-    let f1 = bxdf.f(a, b, TransportMode::Radiance, &mut rng);
-    let f2 = bxdf.f(b, a, TransportMode::Importance, &mut rng);
+    let f1 = bxdf.f(a, b, TransportMode::Radiance);
+    let f2 = bxdf.f(b, a, TransportMode::Importance);
     (0..N)
         .map(|i| {
             let m = f1[i].abs().max(f2[i].abs());

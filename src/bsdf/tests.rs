@@ -10,8 +10,8 @@ use super::testing::{
     albedo, chi2_test, direction, hemispherical_integral, reciprocity_error, Chi2Config,
 };
 use super::*;
-use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
-use crate::texture::{FloatTexture, SpectrumTexture, TexCoord};
+use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+use crate::texture::TexCoord;
 
 use TransportMode::{Importance, Radiance};
 
@@ -54,28 +54,29 @@ fn chi2(b: &Bxdf, theta: f32, mode: TransportMode, seed: u64) {
 }
 
 fn rough_conductor(kind: MicrofacetType, a: (f32, f32)) -> Bxdf {
-    Bxdf::RoughConductor(roughconductor::RoughConductorBxdf::new(
+    Bxdf::rough_conductor(
         MicrofacetDistribution::new(kind, a.0, a.1),
         ConductorFresnel::Complex {
             eta: s(0.2),
             k: s(3.0),
         },
         s(1.0),
-    ))
+    )
 }
 
 fn rough_dielectric(kind: MicrofacetType, a: (f32, f32)) -> Bxdf {
-    Bxdf::RoughDielectric(roughdielectric::RoughDielectricBxdf::new(
+    Bxdf::rough_dielectric(
         MicrofacetDistribution::new(kind, a.0, a.1),
         ETA,
         s(1.0),
         s(1.0),
-    ))
+    )
 }
 
 fn plastic(rho: f32, nonlinear: bool) -> Bxdf {
     let fdr = fresnel::fresnel_diffuse_reflectance(1.0 / ETA);
     Bxdf::Plastic(plastic::PlasticBxdf::new(
+        None,
         ETA,
         s(rho),
         s(1.0),
@@ -86,8 +87,8 @@ fn plastic(rho: f32, nonlinear: bool) -> Bxdf {
 
 fn rough_plastic(kind: MicrofacetType, a: f32, rho: f32) -> Bxdf {
     let fdr = fresnel::fresnel_diffuse_reflectance(1.0 / ETA);
-    Bxdf::RoughPlastic(roughplastic::RoughPlasticBxdf::new(
-        MicrofacetDistribution::new(kind, a, a),
+    Bxdf::Plastic(plastic::PlasticBxdf::new(
+        Some(MicrofacetDistribution::new(kind, a, a)),
         ETA,
         s(rho),
         s(1.0),
@@ -172,16 +173,13 @@ fn chi2_rough_plastic() {
 
 #[test]
 fn smooth_dielectric_weights_sum_to_one() {
-    let b = Bxdf::Dielectric(dielectric::DielectricBxdf::new(ETA, s(1.0), s(1.0)));
-    let mut rng = crate::math::Pcg32::new(1, 1);
+    let b = Bxdf::dielectric(ETA, s(1.0), s(1.0));
     for theta in [0.0f32, 30.0, 60.0, 85.0, -10.0, -40.0, -45.0, -80.0] {
         let wo = direction(theta, 1.1);
         let r = fresnel_dielectric(wo.z, ETA);
         let u = crate::math::Vec2::ZERO;
         // Just below and above the threshold uc = F: reflection, then transmission.
-        let bs_r = b
-            .sample_f(wo, (r - 1e-4).max(0.0), u, Radiance, &mut rng)
-            .unwrap();
+        let bs_r = b.sample_f(wo, (r - 1e-4).max(0.0), u, Radiance).unwrap();
         assert!(bs_r.flags == BxdfFlags::SPECULAR_REFLECTION);
         assert!((bs_r.wi - Vec3::new(-wo.x, -wo.y, wo.z)).length() < 1e-6);
         let w_r = bs_r.f[0] * bs_r.wi.z.abs() / bs_r.pdf;
@@ -189,14 +187,12 @@ fn smooth_dielectric_weights_sum_to_one() {
         if r >= 1.0 {
             // Total internal reflection: every sample reflects.
             assert!(theta < 0.0 && (wo.z.abs() < (1.0 - 1.0 / (ETA * ETA)).sqrt()));
-            let bs = b.sample_f(wo, 0.999, u, Radiance, &mut rng).unwrap();
+            let bs = b.sample_f(wo, 0.999, u, Radiance).unwrap();
             assert!(bs.flags == BxdfFlags::SPECULAR_REFLECTION);
             continue;
         }
         for mode in [Radiance, Importance] {
-            let bs_t = b
-                .sample_f(wo, (r + 1e-4).min(0.9999), u, mode, &mut rng)
-                .unwrap();
+            let bs_t = b.sample_f(wo, (r + 1e-4).min(0.9999), u, mode).unwrap();
             assert!(bs_t.flags == BxdfFlags::SPECULAR_TRANSMISSION);
             let etap = if wo.z > 0.0 { ETA } else { 1.0 / ETA };
             // Snell: sin θt = sin θo / η'.
@@ -219,9 +215,7 @@ fn smooth_dielectric_weights_sum_to_one() {
         let mut rr = crate::math::Pcg32::new(9, 2);
         let k = (0..n)
             .filter(|_| {
-                let bs = b
-                    .sample_f(wo, rr.next_f32(), u, Radiance, &mut rng)
-                    .unwrap();
+                let bs = b.sample_f(wo, rr.next_f32(), u, Radiance).unwrap();
                 bs.flags == BxdfFlags::SPECULAR_REFLECTION
             })
             .count() as f64;
@@ -232,18 +226,17 @@ fn smooth_dielectric_weights_sum_to_one() {
 
 #[test]
 fn thin_dielectric_conserves_energy() {
-    let b = thindielectric::ThinDielectricBxdf::new(ETA, s(1.0), s(1.0));
-    let bx = Bxdf::ThinDielectric(b.clone());
+    let b = fresnel::ThinSheetFresnel { eta: ETA };
+    let bx = Bxdf::ThinDielectric(smooth::Smooth::new(b, s(1.0), s(1.0)));
     for theta in [0.0f32, 45.0, 80.0, -30.0] {
         let wo = direction(theta, 0.3);
         let r = fresnel_dielectric(wo.z.abs(), ETA);
         // R + T²R/(1 − R²) = 2R/(1 + R).
-        assert!((b.reflectance(wo.z) - 2.0 * r / (1.0 + r)).abs() < 1e-6);
+        assert!((b.sheet_reflectance(wo.z) - 2.0 * r / (1.0 + r)).abs() < 1e-6);
         let a = albedo(&bx, wo, Radiance, 5000, 3, true);
         assert!((a[0].mean - 1.0).abs() < 1e-5 && a[0].std_err < 1e-6);
-        let mut rng = crate::math::Pcg32::new(0, 0);
         let bs = bx
-            .sample_f(wo, 0.9999, crate::math::Vec2::ZERO, Radiance, &mut rng)
+            .sample_f(wo, 0.9999, crate::math::Vec2::ZERO, Radiance)
             .unwrap();
         assert!(
             (bs.wi + wo).length() < 1e-6,
@@ -255,7 +248,6 @@ fn thin_dielectric_conserves_energy() {
 #[test]
 fn smooth_conductor_weight_is_fresnel() {
     let (eta, k) = (s(0.4), s(2.4));
-    let mut rng = crate::math::Pcg32::new(0, 0);
     for theta in [0.0f32, 50.0, 85.0] {
         let wo = direction(theta, 2.0);
         for (fr, expect) in [
@@ -265,20 +257,17 @@ fn smooth_conductor_weight_is_fresnel() {
                 fresnel_conductor(wo.z, eta, k)[0],
             ),
         ] {
-            let b = Bxdf::Conductor(conductor::ConductorBxdf::new(fr, s(1.0)));
+            let b = Bxdf::conductor(fr, s(1.0));
             let bs = b
-                .sample_f(wo, 0.5, crate::math::Vec2::ZERO, Radiance, &mut rng)
+                .sample_f(wo, 0.5, crate::math::Vec2::ZERO, Radiance)
                 .unwrap();
             let w = bs.f[0] * bs.wi.z / bs.pdf;
             assert!((w - expect).abs() < 1e-6);
         }
         let below = direction(-theta - 1.0, 2.0);
-        let b = Bxdf::Conductor(conductor::ConductorBxdf::new(
-            ConductorFresnel::Mirror,
-            s(1.0),
-        ));
+        let b = Bxdf::conductor(ConductorFresnel::Mirror, s(1.0));
         assert!(b
-            .sample_f(below, 0.5, crate::math::Vec2::ZERO, Radiance, &mut rng)
+            .sample_f(below, 0.5, crate::math::Vec2::ZERO, Radiance)
             .is_none());
     }
 }
@@ -327,11 +316,11 @@ fn energy_is_bounded() {
     };
     for kind in KINDS {
         for a in ALPHAS {
-            let mirror = Bxdf::RoughConductor(roughconductor::RoughConductorBxdf::new(
+            let mirror = Bxdf::rough_conductor(
                 MicrofacetDistribution::new(kind, a.0, a.1),
                 ConductorFresnel::Mirror,
                 s(1.0),
-            ));
+            );
             for t in ANGLES {
                 check(&mirror, direction(t, 0.2), Radiance);
             }
@@ -388,13 +377,13 @@ fn eval_and_sampling_agree() {
 fn reciprocity() {
     // f(a, b) in radiance mode equals f(b, a) in importance mode; the formulas are symmetric up
     // to f32 rounding of the half vector and products (relative 1e-3 allows for steep D).
-    let mut rng = crate::math::Pcg32::new(77, 0);
     let mut bxdfs = vec![plastic(0.5, false)];
     for kind in KINDS {
         bxdfs.push(rough_conductor(kind, (0.3, 0.15)));
         bxdfs.push(rough_dielectric(kind, (0.3, 0.15)));
         bxdfs.push(rough_plastic(kind, 0.3, 0.5));
     }
+    let mut rng = crate::math::Pcg32::new(77, 0);
     for b in &bxdfs {
         let mut nonzero = 0;
         for _ in 0..2000 {
@@ -402,7 +391,7 @@ fn reciprocity() {
             let c = crate::math::warp::square_to_uniform_sphere(rng.next_vec2());
             let e = reciprocity_error(b, a, c);
             assert!(e < 1e-3, "{b:?}: {a:?} {c:?} rel. error {e}");
-            if !b.f(a, c, Radiance, &mut rng).is_black() {
+            if !b.f(a, c, Radiance).is_black() {
                 nonzero += 1;
             }
         }
@@ -410,55 +399,70 @@ fn reciprocity() {
     }
 }
 
+/// Builds the material of one `<bsdf>` through the plugin registry.
+fn load(xml: &str) -> Material {
+    let scene = format!("<scene version=\"3.0.0\">{xml}</scene>");
+    let (root, _) =
+        crate::scene::mitsuba::load_str(&scene, std::path::Path::new("t.xml"), &[]).unwrap();
+    let node = root
+        .children_with_tag(crate::plugin::Tag::Bsdf)
+        .next()
+        .unwrap();
+    crate::plugin::registry::bsdf(node, &mut Vec::new()).unwrap()
+}
+
 #[test]
 fn materials_evaluate_with_their_parameters() {
     let tc = TexCoord::default();
     let wl = SampledWavelengths::fixed([450.0, 500.0, 550.0, 600.0]);
-    let tex = |v: f32| SpectrumTexture::Constant(Spectrum::Constant(v));
-    let m = Material::two_sided(
-        Material::diffuse(tex(0.2)),
-        Some(Material::diffuse(tex(0.9))),
+    let m = load(
+        r#"<bsdf type="twosided"><bsdf type="diffuse"><float name="reflectance" value="0.2"/></bsdf>
+           <bsdf type="diffuse"><float name="reflectance" value="0.9"/></bsdf></bsdf>"#,
     );
-    match m.eval(&tc, &wl, false) {
+    match m.eval(&tc, &wl, false, 0) {
         (Bxdf::Diffuse(d), true) => assert_eq!(d.r[0], 0.9),
         other => panic!("{other:?}"),
     }
-    match m.eval(&tc, &wl, true) {
+    match m.eval(&tc, &wl, true, 0) {
         (Bxdf::Diffuse(d), true) => assert_eq!(d.r[0], 0.2),
         other => panic!("{other:?}"),
     }
-    let g = Material::dielectric(1.5, 1.25, tex(1.0), tex(1.0));
-    assert!(g.has_delta_only() && g.has_transmission());
-    match g.eval(&tc, &wl, true).0 {
-        Bxdf::Dielectric(d) => assert!((d.eta - 1.2).abs() < 1e-6),
-        other => panic!("{other:?}"),
-    }
-    let ior = material::ConductorIor {
-        eta: Spectrum::Constant(0.4),
-        k: Spectrum::Constant(2.4),
-        ext_ior: 2.0,
-    };
-    let rc = Material::rough_conductor(
-        MicrofacetType::Ggx,
-        FloatTexture::Constant(0.3),
-        FloatTexture::Constant(0.1),
-        Some(ior),
-        tex(1.0),
+    let g = load(
+        r#"<bsdf type="dielectric"><float name="int_ior" value="1.5"/><float name="ext_ior" value="1.25"/></bsdf>"#,
     );
-    match rc.eval(&tc, &wl, true).0 {
-        Bxdf::RoughConductor(c) => {
-            assert_eq!((c.distrib.alpha_x, c.distrib.alpha_y), (0.3, 0.1));
-            match c.fresnel {
-                ConductorFresnel::Complex { eta, k } => assert!(eta[0] == 0.2 && k[0] == 1.2),
-                _ => panic!(),
-            }
-        }
+    assert!(g.has_delta_only() && g.has_transmission());
+    match g.eval(&tc, &wl, true, 0).0 {
+        Bxdf::Dielectric(d) => assert!((d.fresnel.eta - 1.2).abs() < 1e-6),
         other => panic!("{other:?}"),
     }
-    let p = Material::plastic(1.5, 1.0, tex(0.5), tex(1.0), false);
+    // The conductor's exterior index under its 3.x name (`ext_ior`) and its 0.6 one.
+    for name in ["ext_ior", "ext_eta"] {
+        let rc = load(&format!(
+            r#"<bsdf type="roughconductor"><string name="distribution" value="ggx"/>
+               <float name="alpha_u" value="0.3"/><float name="alpha_v" value="0.1"/>
+               <spectrum name="eta" value="0.4"/><spectrum name="k" value="2.4"/>
+               <float name="{name}" value="2"/></bsdf>"#
+        ));
+        match rc.eval(&tc, &wl, true, 0).0 {
+            Bxdf::RoughConductor(c) => {
+                assert_eq!((c.distrib.alpha_x, c.distrib.alpha_y), (0.3, 0.1));
+                match c.fresnel {
+                    ConductorFresnel::Complex { eta, k } => {
+                        assert!(eta[0] == 0.2 && k[0] == 1.2, "{name}")
+                    }
+                    _ => panic!(),
+                }
+            }
+            other => panic!("{other:?}"),
+        }
+    }
+    let p = load(r#"<bsdf type="plastic"><float name="int_ior" value="1.5"/></bsdf>"#);
     match p {
-        Material::Plastic { fdr_int, .. } => assert!(fdr_int > 0.55 && fdr_int < 0.65),
+        Material::Plastic(p) => assert!(p.fdr_int > 0.55 && p.fdr_int < 0.65),
         _ => unreachable!(),
     }
-    assert!(matches!(Material::Null.eval(&tc, &wl, true).0, Bxdf::Black));
+    assert!(matches!(
+        Material::Null.eval(&tc, &wl, true, 0).0,
+        Bxdf::Black
+    ));
 }

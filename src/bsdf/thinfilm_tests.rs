@@ -3,9 +3,10 @@
 //! consistency and reciprocity. Reference numbers: `research/thinfilm.md` §8 (exact Airy,
 //! checked against `tmm`), re-derived where stated.
 
+use super::film::{FilmBase, FilmIor, FilmSpec};
 use super::filmfresnel::{thesis_reflectance, FilmMode};
-use super::filmmaterial::{FilmBase, FilmIor, FilmMaterial};
 use super::fresnel::fresnel_dielectric;
+use super::material::{Interface, Roughness, Surface};
 use super::microfacet::MicrofacetType;
 use super::testing::{
     albedo, chi2_test, direction, hemispherical_integral, reciprocity_error, Chi2Config,
@@ -40,15 +41,20 @@ impl Stack {
         }
     }
     fn bxdf(&self, lambda: [f32; N]) -> Bxdf {
-        let m = FilmMaterial {
+        let film = FilmSpec {
             base: self.base.clone(),
             ext_ior: self.ext,
             film_ior: self.film,
             thickness: FloatTexture::Constant(self.d),
             mode: self.mode,
-            rough: self
-                .rough
-                .map(|(k, a)| (k, FloatTexture::Constant(a), FloatTexture::Constant(a))),
+        };
+        let m = Surface {
+            interface: Interface::Film(Box::new(film)),
+            rough: self.rough.map(|(k, a)| Roughness {
+                distribution: k,
+                alpha_u: FloatTexture::Constant(a),
+                alpha_v: FloatTexture::Constant(a),
+            }),
             specular_reflectance: one(),
             specular_transmittance: one(),
         };
@@ -59,13 +65,16 @@ impl Stack {
 /// Expected reflectance of a smooth film BSDF per wavelength, recovered from its lobes the way
 /// a path sees them: P(reflect) × reflection weight.
 fn reflectance_via_sampling(b: &Bxdf, wo: Vec3) -> [f32; N] {
-    let mut rng = Pcg32::new(0, 0);
     let m = TransportMode::Importance;
-    let refl = b.sample_f(wo, 0.0, Vec2::ZERO, m, &mut rng).unwrap();
+    let refl = b.sample_f(wo, 0.0, Vec2::ZERO, m).unwrap();
     assert!(refl.wi.z * wo.z > 0.0);
     let w = refl.f * refl.wi.z.abs() / refl.pdf;
+    // A film over a metal only reflects (weight R); over a dielectric reflection is chosen
+    // with probability P and weighted R/P.
     let p = match b {
-        Bxdf::ThinFilm(t) => t.lobe_weights(wo.z).2,
+        Bxdf::ThinFilm(t) if b.flags().intersects(super::BxdfFlags::TRANSMISSION) => {
+            t.lobe_weights(wo.z).2
+        }
         _ => 1.0,
     };
     std::array::from_fn(|i| w[i] * p)
@@ -197,8 +206,8 @@ fn inside_and_outside_agree_at_conjugate_angles() {
         let c = th.to_radians().cos();
         let s_in = th.to_radians().sin() / 1.33;
         let c_in = (1.0 - s_in * s_in).sqrt();
-        let (ro, _) = b.film.eval(c);
-        let (ri, _) = b.film.eval(-c_in);
+        let (ro, _) = b.fresnel.eval(c);
+        let (ri, _) = b.fresnel.eval(-c_in);
         for i in 0..N {
             assert!((ro[i] - ri[i]).abs() < 1e-5, "{th}: {ro:?} vs {ri:?}");
         }
@@ -215,17 +224,17 @@ fn thesis_mode_point_samples_and_weights() {
         unreachable!()
     };
     // T2: the thesis's (r, g, b) and F = mean = 0.106908.
-    let rgb = b.film.thesis_rgb(1.0);
+    let rgb = b.fresnel.thesis_rgb(1.0);
     for (g, w) in rgb.iter().zip([0.130821, 0.174275, 0.015629]) {
         assert!(close(*g, w, 2e-6), "{rgb:?}");
     }
-    let (r, p) = b.film.eval(1.0);
+    let (r, p) = b.fresnel.eval(1.0);
     assert!(close(p, 0.106908, 2e-6));
     // The uplifted spectrum is the smooth RGB colour: green-yellow, far from the exact fringes
     // (the exact R(550) is 0.0218; the uplift puts ~0.17 there).
     assert!(r[1] > r[0] && r[1] > 0.1, "{r:?}");
     // Inside: the thesis stack is symmetric (n0 = n2), so it is the same.
-    let inside = b.film.thesis_rgb(-1.0);
+    let inside = b.fresnel.thesis_rgb(-1.0);
     assert!(rgb.iter().zip(inside).all(|(a, b)| (a - b).abs() < 1e-6));
 }
 
@@ -387,8 +396,7 @@ fn rough_film_is_reciprocal() {
     for _ in 0..1000 {
         let a = crate::math::warp::square_to_uniform_sphere(rng.next_vec2());
         let c = crate::math::warp::square_to_uniform_sphere(rng.next_vec2());
-        let mut r = Pcg32::new(0, 0);
-        if b.f(a, c, TransportMode::Radiance, &mut r).max_value() < 1e-3 {
+        if b.f(a, c, TransportMode::Radiance).max_value() < 1e-3 {
             continue;
         }
         checked += 1;

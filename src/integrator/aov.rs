@@ -217,14 +217,20 @@ fn albedo(scene: &Scene, ray: &Ray, si: &crate::shape::SurfaceInteraction, key: 
     let mut xyz = [0.0f32; 3];
     for k in 0..ALBEDO_STRATA {
         let wl = SampledWavelengths::sample_visible((k as f32 + offset) / ALBEDO_STRATA as f32);
-        let (bxdf, two_sided) = material.eval(&tc, &wl, si.ng.dot(wo) >= 0.0);
+        // The layered walk's random numbers come from this seed, one per stratum.
+        let (bxdf, two_sided) = material.eval(
+            &tc,
+            &wl,
+            si.ng.dot(wo) >= 0.0,
+            mix64(((rng.next_u32() as u64) << 32) | k as u64),
+        );
         let bsdf = Bsdf {
             frame,
             bxdf,
             two_sided,
         };
         let (uc, u) = (rng.next_f32(), rng.next_vec2());
-        let rho = match bsdf.sample_f(wo, uc, u, TransportMode::Radiance, &mut rng) {
+        let rho = match bsdf.sample_f(wo, uc, u, TransportMode::Radiance) {
             Some(bs) if bs.pdf > 0.0 => bs.f * (bs.wi.dot(bsdf.frame.n).abs() / bs.pdf),
             _ => SampledSpectrum::ZERO,
         };

@@ -11,7 +11,7 @@ use crate::bsdf::{Bsdf, Material, TransportMode};
 use crate::light::LightSampleContext;
 use crate::math::{power_heuristic, Ray, Vec3};
 use crate::sampler::Sampler;
-use crate::scene::Scene;
+use crate::scene::{IntegratorKind, Scene};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use crate::texture::TexCoord;
 
@@ -30,7 +30,8 @@ pub enum PathStrategy {
 /// all but a negligible fraction long before.
 const SAFETY_DEPTH: u32 = 1024;
 
-/// Estimates the radiance arriving along a camera ray at the path's wavelengths.
+/// Estimates the radiance arriving along a camera ray at the path's wavelengths (with the
+/// scene's integrator: `direct` scenes are handed to [`super::direct::radiance`]).
 pub fn radiance(
     scene: &Scene,
     mut ray: Ray,
@@ -39,6 +40,18 @@ pub fn radiance(
     strategy: PathStrategy,
 ) -> SampledSpectrum {
     let settings = &scene.integrator;
+    if let IntegratorKind::Direct {
+        emitter_samples,
+        bsdf_samples,
+    } = settings.kind
+    {
+        let counts = match strategy {
+            PathStrategy::Mis => (emitter_samples, bsdf_samples),
+            PathStrategy::LightOnly => (emitter_samples, 0),
+            PathStrategy::BsdfOnly => (0, bsdf_samples),
+        };
+        return super::direct::radiance(scene, ray, wl, sampler, counts);
+    }
     let max_depth = settings.max_depth.unwrap_or(SAFETY_DEPTH).min(SAFETY_DEPTH);
     let mut l = SampledSpectrum::ZERO;
     let mut beta = SampledSpectrum::ONE;
@@ -124,7 +137,7 @@ pub fn radiance(
 
         let front = si.ng.dot(wo) >= 0.0;
         let tc = TexCoord { uv: si.uv, p: si.p };
-        let (bxdf, two_sided) = material.eval(&tc, wl, front);
+        let (bxdf, two_sided) = material.eval(&tc, wl, front, sampler.vertex_seed());
         let bsdf = Bsdf {
             frame: material.shading_frame(
                 &si,
@@ -149,7 +162,7 @@ pub fn radiance(
                 let light = &scene.lights[li];
                 if let Some(ls) = light.sample_li(&ctx, u, wl, &scene.shapes) {
                     if ls.pdf > 0.0 && !ls.l.is_black() {
-                        let f = bsdf.f(wo, ls.wi, TransportMode::Radiance, sampler.rng())
+                        let f = bsdf.f(wo, ls.wi, TransportMode::Radiance)
                             * ls.wi.dot(bsdf.frame.n).abs();
                         if !f.is_black() && !scene.occluded(&Ray::spawn_to(si.p, si.ng, ls.p_light))
                         {
@@ -157,8 +170,7 @@ pub fn radiance(
                             let w = if ls.is_delta || strategy == PathStrategy::LightOnly {
                                 1.0
                             } else {
-                                let bsdf_pdf =
-                                    bsdf.pdf(wo, ls.wi, TransportMode::Radiance, sampler.rng());
+                                let bsdf_pdf = bsdf.pdf(wo, ls.wi, TransportMode::Radiance);
                                 power_heuristic(light_pdf, bsdf_pdf)
                             };
                             l += beta * f * ls.l * (w / light_pdf);
@@ -171,7 +183,7 @@ pub fn radiance(
         // BSDF sampling.
         let uc = sampler.get_1d();
         let u = sampler.get_2d();
-        let Some(bs) = bsdf.sample_f(wo, uc, u, TransportMode::Radiance, sampler.rng()) else {
+        let Some(bs) = bsdf.sample_f(wo, uc, u, TransportMode::Radiance) else {
             break;
         };
         let cos = bs.wi.dot(bsdf.frame.n).abs();
@@ -180,7 +192,7 @@ pub fn radiance(
             break;
         }
         prev_pdf = if bs.pdf_is_proportional {
-            bsdf.pdf(wo, bs.wi, TransportMode::Radiance, sampler.rng())
+            bsdf.pdf(wo, bs.wi, TransportMode::Radiance)
         } else {
             bs.pdf
         };

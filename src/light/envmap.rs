@@ -16,19 +16,33 @@
 //! width in faces +x.
 //!
 //! Each texel's RGB is uplifted as an emission (Jakob & Hanika 2019 sigmoid times D65, the same
-//! semantics as [`Spectrum::rgb_illuminant`]); a texel stores its sigmoid coefficients and scale.
-//! Texels are looked up nearest (piecewise constant), exactly the density the sampler uses:
-//! the pdf in (u, v) is proportional to luminance × sin θ of the texel's centre row, and the
-//! solid-angle pdf is p(u, v) / (2π² sin θ).
+//! semantics as [`Spectrum::rgb_illuminant`]). Radiance is interpolated bilinearly between texel
+//! centres, as in Mitsuba 3 (3.9, measured through its Python API): texel (i, j) sits at
+//! u = (i + ½)/W, wrapping around, and at v = j/(H − 1), so the first and last rows lie on the
+//! poles. Each texel's colour is stored as Mitsuba stores it, a scale 2·max(r, g, b) and the
+//! sigmoid spectrum of the colour divided by it; the four texels' spectra and their scales are
+//! blended separately and multiplied, as Mitsuba 3.9 does (measured through its Python API:
+//! halfway between a texel and a black one, a quarter of the texel's radiance). Blending the
+//! radiance itself would be the linear choice; the two agree between texels of one hue and one
+//! brightness, differ by ~10 % across a horizon, and an isolated bright texel among black ones
+//! (a sun) emits 4/9 of what linear blending would give it.
 //!
-//! Known limits: Mitsuba 3 interpolates bilinearly with texel centres shifted by half a texel, so
-//! renders differ from Mitsuba's at texel scale; `to_world` should be a rotation (scale or shear
-//! would change the density without being accounted for).
+//! Sampling: a piecewise-constant density over the bilinear patches — W cells between texel
+//! centres in u (the grid shifted by half a texel) and H − 1 cells between rows in v. A cell's
+//! weight is the mean of its bilinear luminance (the mean of its four corners) times sin θ at
+//! its centre. A patch's corners are the only texels its radiance reads, so the density is
+//! positive wherever the radiance is: light sampling alone is unbiased. The solid-angle pdf is
+//! p(u, v) / (2π² sin θ). Mitsuba samples the bilinear luminance itself; the two densities
+//! differ only within cells (noise, not the mean).
+//!
+//! Known limits: `to_world` should be a rotation (scale or shear would change the density
+//! without being accounted for).
 
 use super::distribution::Distribution2D;
 use super::{point_at_infinity, LightLiSample, LightSampleContext};
 use crate::image_io::RgbImage;
 use crate::math::{Transform, Vec2, Vec3, PI};
+use crate::spectrum::cie::d65;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
 
 /// Why an environment map cannot be built.
@@ -132,25 +146,31 @@ impl EnvMapLight {
         } else {
             0.0
         };
-        let mut weights = vec![0.0; width * height];
+        // Sampling cells: between texel centres in u (W cells, wrapping), between rows in v
+        // (H − 1 cells; one when the map has a single row). See the module header.
+        let rows = (height - 1).max(1);
+        let mut weights = vec![0.0; width * rows];
         let mut integral = 0.0f64;
         let d_phi = 2.0 * std::f64::consts::PI / width as f64;
-        for y in 0..height {
-            let sin_theta = (PI * (y as f32 + 0.5) / height as f32).sin();
-            let t0 = std::f64::consts::PI * y as f64 / height as f64;
-            let t1 = std::f64::consts::PI * (y + 1) as f64 / height as f64;
+        let lum = |x: usize, y: usize| luminance[y.min(height - 1) * width + x % width] as f64;
+        for y in 0..rows {
+            let t0 = std::f64::consts::PI * y as f64 / rows as f64;
+            let t1 = std::f64::consts::PI * (y + 1) as f64 / rows as f64;
+            let sin_theta = (0.5 * (t0 + t1)).sin();
             let solid_angle = d_phi * (t0.cos() - t1.cos());
+            let below = if height > 1 { y + 1 } else { y };
             for x in 0..width {
-                let l = luminance[y * width + x];
-                weights[y * width + x] = l * sin_theta;
-                integral += l as f64 * solid_angle;
+                // The mean of a bilinear patch is the mean of its corners.
+                let mean = 0.25 * (lum(x, y) + lum(x + 1, y) + lum(x, below) + lum(x + 1, below));
+                weights[y * width + x] = (mean * sin_theta) as f32;
+                integral += mean * solid_angle;
             }
         }
         EnvMapLight {
             width,
             height,
             texels,
-            dist: Distribution2D::new(&weights, width, height),
+            dist: Distribution2D::new(&weights, width, rows),
             scale,
             to_world,
             to_local: to_world.inverse(),
@@ -165,20 +185,50 @@ impl EnvMapLight {
         self.radius = r;
     }
 
-    /// The texel holding (u, v) (nearest lookup).
+    /// Half a texel in u: the sampling grid's offset from the texel grid.
     #[inline]
-    fn texel(&self, uv: Vec2) -> usize {
-        let x = ((uv.x * self.width as f32) as usize).min(self.width - 1);
-        let y = ((uv.y * self.height as f32) as usize).min(self.height - 1);
-        y * self.width + x
+    fn half_texel(&self) -> f32 {
+        0.5 / self.width as f32
     }
 
     fn local(&self, dir: Vec3) -> Vec3 {
         self.to_local.vector(dir).normalize_or_zero()
     }
 
+    /// Bilinear interpolation between texel centres: (i + ½)/W in u, wrapping; j/(H − 1) in v.
+    /// As in Mitsuba, an uplifted texel's normalised spectrum and its scale are interpolated
+    /// separately and then multiplied (see the module header).
     fn radiance_uv(&self, uv: Vec2, wl: &SampledWavelengths) -> SampledSpectrum {
-        self.texels[self.texel(uv)].sample(wl) * self.scale
+        let (w, h) = (self.width as isize, self.height as isize);
+        let x = uv.x * self.width as f32 - 0.5;
+        let y = uv.y.clamp(0.0, 1.0) * (self.height - 1) as f32;
+        let (x0, y0) = (x.floor(), y.floor());
+        let (fx, fy) = (x - x0, y - y0);
+        let (x0, y0) = (x0 as isize, y0 as isize);
+        let mut shape = SampledSpectrum::ZERO;
+        let mut scale = 0.0f32;
+        for (i, j, weight) in [
+            (x0, y0, (1.0 - fx) * (1.0 - fy)),
+            (x0 + 1, y0, fx * (1.0 - fy)),
+            (x0, y0 + 1, (1.0 - fx) * fy),
+            (x0 + 1, y0 + 1, fx * fy),
+        ] {
+            if weight == 0.0 {
+                continue;
+            }
+            let texel =
+                &self.texels[j.clamp(0, h - 1) as usize * self.width + i.rem_euclid(w) as usize];
+            let (s, f) = match texel {
+                Spectrum::RgbIlluminant { scale, poly } => (
+                    SampledSpectrum::from_fn(|k| poly.eval(wl.lambda[k]) * d65(wl.lambda[k])),
+                    *scale,
+                ),
+                other => (other.sample(wl), 1.0),
+            };
+            shape += s * weight;
+            scale += f * weight;
+        }
+        shape * (scale * self.scale)
     }
 
     /// Radiance seen along the escaping direction `dir` (world space).
@@ -197,7 +247,11 @@ impl EnvMapLight {
         if sin_theta.is_nan() || sin_theta <= 0.0 {
             return 0.0;
         }
-        self.dist.pdf(direction_to_uv(d)) / (2.0 * PI * PI * sin_theta)
+        let uv = direction_to_uv(d);
+        let u = (uv.x - self.half_texel())
+            .rem_euclid(1.0)
+            .min(crate::math::ONE_MINUS_EPSILON);
+        self.dist.pdf(Vec2::new(u, uv.y)) / (2.0 * PI * PI * sin_theta)
     }
 
     pub(crate) fn sample_li(
@@ -206,7 +260,8 @@ impl EnvMapLight {
         u: Vec2,
         wl: &SampledWavelengths,
     ) -> Option<LightLiSample> {
-        let (uv, _, _) = self.dist.sample(u);
+        let (cell, _, _) = self.dist.sample(u);
+        let uv = Vec2::new((cell.x + self.half_texel()).rem_euclid(1.0), cell.y);
         let wi = self
             .to_world
             .vector(uv_to_direction(uv))

@@ -162,7 +162,7 @@ impl Light {
     }
 
     /// Approximate emitted power (W, with spectra reduced to their mean over the visible range),
-    /// used to choose lights in proportion to their contribution. Area lights need the shapes.
+    /// which half of the light choice follows ([`LightSampler`]). Area lights need the shapes.
     pub fn power(&self, shapes: &[Shape]) -> f32 {
         match self {
             Light::Point(l) => l.power(),

@@ -38,12 +38,6 @@ pub fn safe_acos(x: f32) -> f32 {
     x.clamp(-1.0, 1.0).acos()
 }
 
-/// Squares a number.
-#[inline]
-pub fn sqr(x: f32) -> f32 {
-    x * x
-}
-
 /// Linear interpolation a + t (b − a).
 #[inline]
 pub fn lerp(t: f32, a: f32, b: f32) -> f32 {

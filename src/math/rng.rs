@@ -42,14 +42,6 @@ impl Pcg32 {
         (self.next_u32() >> 8) as f32 * (1.0 / 16_777_216.0)
     }
 
-    /// Uniform f64 in [0, 1).
-    #[inline]
-    pub fn next_f64(&mut self) -> f64 {
-        let hi = (self.next_u32() as u64) << 21;
-        let lo = (self.next_u32() >> 11) as u64;
-        (hi | lo) as f64 * (1.0 / (1u64 << 53) as f64)
-    }
-
     /// Two uniform floats in [0, 1).
     #[inline]
     pub fn next_vec2(&mut self) -> Vec2 {

@@ -1,7 +1,7 @@
 //! Sampling warps from the unit square, each with its density (Shirley & Chiu 1997 for the
 //! concentric disk; the rest are standard inversions, see pbrt-v4 ch. A.5).
 
-use super::{safe_sqrt, INV_2PI, INV_4PI, INV_PI, PI};
+use super::{safe_sqrt, INV_4PI, INV_PI, PI};
 use glam::{Vec2, Vec3};
 
 /// Uniform point on the unit disk (concentric mapping, low distortion).
@@ -43,16 +43,6 @@ pub fn square_to_uniform_hemisphere(u: Vec2) -> Vec3 {
     Vec3::new(r * phi.cos(), r * phi.sin(), z)
 }
 
-/// Density of [`square_to_uniform_hemisphere`].
-#[inline]
-pub fn square_to_uniform_hemisphere_pdf(v: Vec3) -> f32 {
-    if v.z >= 0.0 {
-        INV_2PI
-    } else {
-        0.0
-    }
-}
-
 /// Uniform direction on the unit sphere.
 #[inline]
 pub fn square_to_uniform_sphere(u: Vec2) -> Vec3 {
@@ -77,12 +67,6 @@ pub fn square_to_uniform_cone(u: Vec2, cos_max: f32) -> Vec3 {
     Vec3::new(sin_t * phi.cos(), sin_t * phi.sin(), cos_t)
 }
 
-/// Density of [`square_to_uniform_cone`].
-#[inline]
-pub fn square_to_uniform_cone_pdf(cos_max: f32) -> f32 {
-    1.0 / (2.0 * PI * (1.0 - cos_max))
-}
-
 /// Uniform barycentric coordinates (b0, b1) on a triangle (Heitz 2019, "A Low-Distortion Map
 /// Between Triangle and Square"); b2 = 1 − b0 − b1.
 #[inline]
@@ -96,12 +80,6 @@ pub fn square_to_uniform_triangle(u: Vec2) -> Vec2 {
         b0 = u.x - b1;
     }
     Vec2::new(b0, b1)
-}
-
-/// Samples an exponential distribution with rate `a`: density a·exp(−a x).
-#[inline]
-pub fn sample_exponential(u: f32, a: f32) -> f32 {
-    -(1.0 - u).ln() / a
 }
 
 #[cfg(test)]

@@ -43,6 +43,21 @@ impl FilmRt {
     pub fn t(&self) -> f64 {
         0.5 * (self.t_s + self.t_p)
     }
+    /// Absorbed fraction of s-polarised light, 1 − R_s − T_s (0 for a lossless stack).
+    #[inline]
+    pub fn a_s(&self) -> f64 {
+        1.0 - self.r_s - self.t_s
+    }
+    /// Absorbed fraction of p-polarised light, 1 − R_p − T_p.
+    #[inline]
+    pub fn a_p(&self) -> f64 {
+        1.0 - self.r_p - self.t_p
+    }
+    /// Unpolarised absorptance (A_s + A_p)/2.
+    #[inline]
+    pub fn a(&self) -> f64 {
+        0.5 * (self.a_s() + self.a_p())
+    }
 }
 
 /// Cosine in a layer of index `n` for a wave with transverse index `n0 sin θ0`, on the branch of

@@ -55,10 +55,12 @@ impl Sampler {
         self.rng = Pcg32::new(pix, index as u64);
     }
 
-    /// A random stream for stochastic BSDFs, independent of the sample dimensions.
+    /// A seed for the stochastic BSDFs at the current path vertex: a hash of the pixel
+    /// sample and the dimensions drawn so far, so it differs from vertex to vertex without
+    /// consuming any of the sampler's numbers.
     #[inline]
-    pub fn rng(&mut self) -> &mut Pcg32 {
-        &mut self.rng
+    pub fn vertex_seed(&self) -> u64 {
+        mix64(((self.pixel_seed as u64) << 32 | self.index as u64) ^ mix64(self.dim as u64 + 1))
     }
 
     /// Next 1D sample in [0, 1).

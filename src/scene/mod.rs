@@ -2,6 +2,7 @@
 //! render settings.
 
 pub mod build;
+pub mod builtin;
 pub mod mitsuba;
 
 use crate::accel::{Accel, Bvh};
@@ -13,9 +14,24 @@ use crate::math::{Bounds3, Ray};
 use crate::sampler::SamplerKind;
 use crate::shape::{Hit, Shape, SurfaceInteraction};
 
-/// Path-tracer settings (Mitsuba's `path` integrator).
+/// Which light-transport estimator renders the scene.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum IntegratorKind {
+    /// Mitsuba's `path`: full path tracing.
+    Path,
+    /// Mitsuba's `direct`: emission and direct light at the first surface, with this many
+    /// light and BSDF samples per camera sample.
+    Direct {
+        emitter_samples: u32,
+        bsdf_samples: u32,
+    },
+}
+
+/// Integrator settings (Mitsuba's `path` and `direct`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct IntegratorSettings {
+    /// The estimator.
+    pub kind: IntegratorKind,
     /// Longest path in segments; `None` = unbounded (Russian roulette ends paths).
     pub max_depth: Option<u32>,
     /// Depth from which Russian roulette may end paths.
@@ -29,6 +45,7 @@ pub struct IntegratorSettings {
 impl Default for IntegratorSettings {
     fn default() -> Self {
         IntegratorSettings {
+            kind: IntegratorKind::Path,
             max_depth: None,
             rr_depth: 5,
             hide_emitters: false,

@@ -1,5 +1,10 @@
 //! Mesh files: the shared loader error, the loaded arrays, and `TriangleMesh` constructors from
-//! OBJ and PLY files (Mitsuba's `obj` and `ply` plugins).
+//! OBJ, PLY and serialized files (Mitsuba's `obj`, `ply` and `serialized` plugins).
+//!
+//! As in Mitsuba 3, a mesh file without vertex normals is shaded smoothly unless
+//! `face_normals` is set: each vertex gets the mean of its triangles' unit normals weighted by
+//! the triangle's angle at that vertex (Thürmer & Wüthrich, "Computing vertex normals from
+//! polygonal facets", JGT 3(1), 1998), computed in object space.
 use super::mesh::{MeshError, TriangleMesh};
 use crate::math::{Transform, Vec2, Vec3};
 use std::path::{Path, PathBuf};
@@ -72,7 +77,8 @@ pub struct MeshOptions {
     pub flip_normals: bool,
     /// `face_normals` (default false): ignore vertex normals.
     pub face_normals: bool,
-    /// `flip_tex_coords` (default true): v ← 1 − v, as Mitsuba 3 does for OBJ and PLY files.
+    /// `flip_tex_coords`: v ← 1 − v. Mitsuba 3's default is true for OBJ files and false for
+    /// PLY files (and serialized files have no such option); [`Default`] gives OBJ's.
     pub flip_tex_coords: bool,
 }
 
@@ -106,6 +112,9 @@ impl TriangleMesh {
                 }
             }
         }
+        if data.normals.is_none() && !opts.face_normals {
+            data.normals = Some(smooth_normals(&data.positions, &data.indices));
+        }
         TriangleMesh::new(
             data.positions,
             data.normals,
@@ -131,6 +140,17 @@ impl TriangleMesh {
         TriangleMesh::from_data(data, path, to_world, opts)
     }
 
+    /// Mitsuba's `serialized` shape: mesh `shape_index` of the file.
+    pub fn from_serialized(
+        path: &Path,
+        shape_index: u32,
+        to_world: &Transform,
+        opts: &MeshOptions,
+    ) -> Result<TriangleMesh, LoadError> {
+        let data = super::serialized::read_serialized(path, shape_index)?;
+        TriangleMesh::from_data(data, path, to_world, opts)
+    }
+
     /// Mitsuba's `ply` shape.
     pub fn from_ply(
         path: &Path,
@@ -139,5 +159,96 @@ impl TriangleMesh {
     ) -> Result<TriangleMesh, LoadError> {
         let data = super::ply::read_ply(path)?;
         TriangleMesh::from_data(data, path, to_world, opts)
+    }
+}
+
+/// Angle-weighted vertex normals (see the module header); a vertex on no valid triangle gets
+/// +x, as Mitsuba gives it, and triangles with an index out of range are skipped (the mesh
+/// constructor reports them).
+pub fn smooth_normals(positions: &[Vec3], indices: &[[u32; 3]]) -> Vec<Vec3> {
+    let mut acc = vec![glam::DVec3::ZERO; positions.len()];
+    for tri in indices {
+        let Some(p) = tri
+            .iter()
+            .map(|&i| positions.get(i as usize).map(|p| p.as_dvec3()))
+            .collect::<Option<Vec<_>>>()
+        else {
+            continue;
+        };
+        let n = (p[1] - p[0]).cross(p[2] - p[0]);
+        let len = n.length();
+        if !(len > 0.0 && len.is_finite()) {
+            continue;
+        }
+        let n = n / len;
+        for k in 0..3 {
+            let a = (p[(k + 1) % 3] - p[k]).normalize_or_zero();
+            let b = (p[(k + 2) % 3] - p[k]).normalize_or_zero();
+            // atan2 of |a×b| and a·b keeps precision at small and near-straight angles.
+            let angle = a.cross(b).length().atan2(a.dot(b));
+            acc[tri[k] as usize] += n * angle;
+        }
+    }
+    acc.into_iter()
+        .map(|n| {
+            let l = n.length();
+            if l > 0.0 && l.is_finite() {
+                (n / l).as_vec3()
+            } else {
+                Vec3::X
+            }
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn smooth_normals_weight_faces_by_their_angle() {
+        // A vertex shared by a right-angled triangle in z = 0 (angle 90° at the shared corner)
+        // and one in x = 0 (angle 45°): the normal leans 2:1 towards the first face's normal.
+        let p = vec![
+            Vec3::ZERO,
+            Vec3::X,
+            Vec3::Y,
+            Vec3::new(0.0, 1.0, 1.0),
+            Vec3::new(0.0, 0.0, 1.0),
+        ];
+        let tris = [[0, 1, 2], [0, 3, 4]];
+        let n = smooth_normals(&p, &tris);
+        let want = (Vec3::Z * std::f32::consts::FRAC_PI_2 + Vec3::X * std::f32::consts::FRAC_PI_4)
+            .normalize();
+        assert!((n[0] - want).length() < 1e-6, "{}", n[0]);
+        assert!((n[1] - Vec3::Z).length() < 1e-6 && (n[4] - Vec3::X).length() < 1e-6);
+        // A zero-area triangle and an unused vertex contribute nothing.
+        let n = smooth_normals(&[Vec3::ZERO, Vec3::X, Vec3::X * 2.0, Vec3::Y], &[[0, 1, 2]]);
+        assert!(n.iter().all(|&v| v == Vec3::X));
+    }
+
+    #[test]
+    fn mesh_files_without_normals_are_shaded_smoothly_unless_face_normals() {
+        let data = MeshData {
+            positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::new(1.0, 1.0, 0.5)],
+            normals: None,
+            uvs: None,
+            indices: vec![[0, 1, 2], [1, 3, 2]],
+        };
+        let p = Path::new("m.ply");
+        let smooth = TriangleMesh::from_data(
+            data.clone(),
+            p,
+            &Transform::IDENTITY,
+            &MeshOptions::default(),
+        )
+        .unwrap();
+        assert!(smooth.has_vertex_normals());
+        let flat = MeshOptions {
+            face_normals: true,
+            ..MeshOptions::default()
+        };
+        let m = TriangleMesh::from_data(data, p, &Transform::IDENTITY, &flat).unwrap();
+        assert!(!m.has_vertex_normals());
     }
 }

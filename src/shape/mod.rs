@@ -1,6 +1,6 @@
 //! Geometric shapes, their ray intersection, surface parametrisation and area sampling.
 //!
-//! Scene shapes are flattened into primitives for the BVH: an analytic sphere or disk is one
+//! Scene shapes are flattened into primitives for the BVH: an analytic sphere, disk or cylinder is one
 //! primitive, a triangle mesh contributes one primitive per triangle. Intersection returns a
 //! compact [`Hit`]; the full [`SurfaceInteraction`] is computed only for the closest hit.
 
@@ -53,6 +53,7 @@ pub struct ShapeSample {
     pub pdf: f32,
 }
 
+pub mod cylinder;
 pub mod disk;
 pub mod litter;
 pub mod load;
@@ -60,10 +61,12 @@ pub mod mesh;
 pub mod obj;
 pub mod ply;
 pub mod primitives;
+pub mod serialized;
 pub mod snake;
 pub mod sphere;
 pub mod torus;
 
+pub use cylinder::Cylinder;
 pub use disk::Disk;
 pub use load::{LoadError, MeshData, MeshOptions};
 pub use mesh::{MeshError, TriangleMesh};
@@ -91,6 +94,7 @@ pub enum ShapeError {
 pub enum Shape {
     Sphere(Sphere),
     Disk(Disk),
+    Cylinder(Cylinder),
     Mesh(TriangleMesh),
 }
 
@@ -108,6 +112,7 @@ impl Shape {
         match self {
             Shape::Sphere(s) => s.bounds(),
             Shape::Disk(d) => d.bounds(),
+            Shape::Cylinder(c) => c.bounds(),
             Shape::Mesh(m) => m.triangle_bounds(prim),
         }
     }
@@ -119,6 +124,7 @@ impl Shape {
         match self {
             Shape::Sphere(s) => s.intersect(ray),
             Shape::Disk(d) => d.intersect(ray),
+            Shape::Cylinder(c) => c.intersect(ray),
             Shape::Mesh(m) => m.intersect_triangle(prim, ray),
         }
     }
@@ -134,6 +140,7 @@ impl Shape {
         match self {
             Shape::Sphere(s) => s.intersect(ray),
             Shape::Disk(d) => d.intersect(ray),
+            Shape::Cylinder(c) => c.intersect(ray),
             Shape::Mesh(m) => m.intersect_triangle_sheared(prim, ray, sr),
         }
     }
@@ -143,6 +150,7 @@ impl Shape {
         match self {
             Shape::Sphere(s) => s.interaction(hit, ray),
             Shape::Disk(d) => d.interaction(hit, ray),
+            Shape::Cylinder(c) => c.interaction(hit, ray),
             Shape::Mesh(m) => m.interaction(hit, ray),
         }
     }
@@ -152,6 +160,7 @@ impl Shape {
         match self {
             Shape::Sphere(s) => s.bounds(),
             Shape::Disk(d) => d.bounds(),
+            Shape::Cylinder(c) => c.bounds(),
             Shape::Mesh(m) => m.bounds(),
         }
     }
@@ -161,6 +170,7 @@ impl Shape {
         match self {
             Shape::Sphere(s) => s.area(),
             Shape::Disk(d) => d.area(),
+            Shape::Cylinder(c) => c.area(),
             Shape::Mesh(m) => m.area(),
         }
     }
@@ -171,6 +181,7 @@ impl Shape {
         match self {
             Shape::Sphere(s) => s.sample_direct(ref_p, u),
             Shape::Disk(d) => d.sample_direct(ref_p, u),
+            Shape::Cylinder(c) => c.sample_direct(ref_p, u),
             Shape::Mesh(m) => m.sample_direct(ref_p, u),
         }
     }
@@ -181,6 +192,7 @@ impl Shape {
         match self {
             Shape::Sphere(s) => s.pdf_direct(ref_p, p, n),
             Shape::Disk(d) => d.pdf_direct(ref_p, p, n),
+            Shape::Cylinder(c) => c.pdf_direct(ref_p, p, n),
             Shape::Mesh(m) => m.pdf_direct(ref_p, p, n),
         }
     }

@@ -82,17 +82,6 @@ impl SampledSpectrum {
     pub fn clamp(self, lo: f32, hi: f32) -> Self {
         self.map(|v| v.clamp(lo, hi))
     }
-    /// Division that yields 0 where the divisor is 0.
-    #[inline]
-    pub fn safe_div(self, d: SampledSpectrum) -> Self {
-        SampledSpectrum::from_fn(|i| {
-            if d.0[i] != 0.0 {
-                self.0[i] / d.0[i]
-            } else {
-                0.0
-            }
-        })
-    }
 }
 
 macro_rules! binop {

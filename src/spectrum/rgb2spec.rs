@@ -30,18 +30,12 @@ pub struct SigmoidPolynomial {
 /// S(x) = ½ + x / (2√(1 + x²)); ±∞ → 1 or 0, NaN → 0 (no energy from malformed input).
 #[inline]
 fn sigmoid(x: f32) -> f32 {
-    if x.is_nan() {
-        0.0
-    } else if x.abs() > 1e18 {
-        // 1 + x² would overflow; S is within 1e-36 of its limit here.
-        if x > 0.0 {
-            1.0
-        } else {
-            0.0
-        }
-    } else {
-        0.5 + 0.5 * x / (1.0 + x * x).sqrt()
-    }
+    // Clamping first makes the formula safe without branches (so four lanes vectorise): NaN
+    // goes to −1e18 (S = 0, as `max` drops a NaN), and beyond ±1e18, where 1 + x² would
+    // overflow, S is within 1e-36 of its limit, which the clamped value gives exactly.
+    #[allow(clippy::manual_clamp)] // `clamp` would keep a NaN; `max` drops it.
+    let x = x.max(-1e18).min(1e18);
+    0.5 + 0.5 * x / (1.0 + x * x).sqrt()
 }
 
 impl SigmoidPolynomial {
@@ -78,6 +72,15 @@ impl SigmoidPolynomial {
             (self.c0 * lambda + self.c1) * lambda + self.c2
         };
         sigmoid(x)
+    }
+
+    /// Values at four wavelengths (the branch on a constant polynomial is taken once).
+    #[inline]
+    pub fn eval4(&self, lambda: [f32; 4]) -> [f32; 4] {
+        if self.c0 == 0.0 && self.c1 == 0.0 {
+            return [sigmoid(self.c2); 4];
+        }
+        lambda.map(|l| sigmoid((self.c0 * l + self.c1) * l + self.c2))
     }
 
     /// Largest value over 360–830 nm: at an end or at the polynomial's stationary point.

@@ -118,9 +118,17 @@ impl Spectrum {
     /// Values at the path's wavelengths.
     #[inline]
     pub fn sample(&self, wl: &SampledWavelengths) -> SampledSpectrum {
+        // One match for the four wavelengths, so the uplift's arithmetic runs in SIMD lanes.
+        let l = wl.lambda;
         match self {
             Spectrum::Constant(v) => SampledSpectrum::splat(*v),
-            _ => SampledSpectrum::from_fn(|i| self.eval(wl.lambda[i])),
+            Spectrum::RgbAlbedo(p) => SampledSpectrum(p.eval4(l)),
+            Spectrum::RgbUnbounded { scale, poly } => SampledSpectrum(poly.eval4(l)) * *scale,
+            Spectrum::RgbIlluminant { scale, poly } => {
+                let (p, d) = (poly.eval4(l), l.map(cie::d65));
+                SampledSpectrum::from_fn(|i| scale * p[i] * d[i])
+            }
+            _ => SampledSpectrum::from_fn(|i| self.eval(l[i])),
         }
     }
 
@@ -130,21 +138,6 @@ impl Spectrum {
             Spectrum::Constant(v) => *v,
             _ => (360..=830).map(|l| self.eval(l as f32)).fold(0.0, f32::max),
         }
-    }
-
-    /// The colour of this spectrum, as an emission, in linear sRGB (used for summaries and
-    /// power heuristics; not on the rendering path).
-    pub fn to_rgb_illuminant(&self) -> [f32; 3] {
-        let mut xyz = [0.0f64; 3];
-        for l in 360..=830 {
-            let v = self.eval(l as f32) as f64;
-            let b = cie::xyz_bar(l as f32);
-            for c in 0..3 {
-                xyz[c] += v * b[c] as f64;
-            }
-        }
-        let y = cie::CIE_Y_INTEGRAL as f64;
-        cie::xyz_to_linear_srgb(xyz.map(|v| (v / y) as f32))
     }
 }
 

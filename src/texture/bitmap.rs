@@ -1,24 +1,87 @@
 //! `bitmap`: an image texture (Mitsuba's `bitmap` plugin).
 //!
-//! | XML name   | type      | default | meaning                                                  |
-//! |------------|-----------|---------|----------------------------------------------------------|
-//! | `filename` | string    | —       | EXR, Radiance HDR or PNG file (PNG is sRGB-decoded)      |
-//! | `raw`      | boolean   | false   | keep the stored values: no sRGB decoding, no uplift clamp (normal maps, data) |
-//! | `filter_type` | string | bilinear| `bilinear` or `nearest`                                  |
-//! | `wrap_mode`| string    | repeat  | `repeat`, `mirror` or `clamp`                            |
-//! | `to_uv`    | transform | id.     | applied to the surface UV before the lookup              |
+//! ## Parameters
+//!
+//! | parameter | type | default | unit | meaning |
+//! |---|---|---|---|---|
+//! | `filename` | string | required | — | the image (PNG and JPEG are sRGB-decoded) |
+//! | `raw` | boolean | false | — | keep the stored values: no sRGB decoding, no uplift clamp (normal maps, data) |
+//! | `filter_type` | string | `bilinear` | — | texel interpolation; one of 'bilinear', 'nearest' |
+//! | `wrap_mode` | string | `repeat` | — | lookups outside [0, 1); one of 'repeat', 'mirror', 'clamp' |
+//! | `to_uv` | transform | identity | — | applied to the surface UV before the lookup |
 //!
 //! UV convention (Mitsuba 3): u runs left to right and v top to bottom over the image, so
-//! (0, 0) is the top-left texel corner; OBJ/PLY texture coordinates are flipped on load
-//! (`flip_tex_coords`) to match. Colours are linear sRGB; as a spectrum each texel is uplifted
+//! (0, 0) is the top-left texel corner; OBJ texture coordinates are flipped on load
+//! (`flip_tex_coords`) to match, PLY and serialized ones are used as stored (as in Mitsuba 3).
+//! Colours are linear sRGB; as a spectrum each texel is uplifted
 //! once at load (Jakob & Hanika 2019) and the four neighbours' spectra are blended, which is
 //! the same as blending reflectances. As a float texture the texture reads the mean of the
 //! three channels. Known limits: no MIP-mapping (distant textures alias), no alpha.
 
-use crate::image_io::RgbImage;
+use super::{uv_transform, FloatTexture, NormalSource, SpectrumTexture, Texture, Want};
+use crate::image_io::{read_image, RgbImage};
 use crate::math::{Mat3, Vec2};
+use crate::plugin::{declare, Args, Check, DefaultValue, Param, SceneError, Ty};
 use crate::spectrum::rgb2spec::{rgb_to_sigmoid, SigmoidPolynomial};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+use std::sync::Arc;
+
+declare!(
+    /// The `bitmap` plugin.
+    pub(crate) PLUGIN: Texture, Want = Texture "bitmap" []
+    "an image: EXR, Radiance HDR or PNG"
+    [&[
+            Param::new("filename", Ty::String, DefaultValue::Required)
+                .doc("the image (PNG and JPEG are sRGB-decoded)"),
+            Param::bool("raw", false).doc(
+                "keep the stored values: no sRGB decoding, no uplift clamp (normal maps, data)",
+            ),
+            Param::string("filter_type", "bilinear")
+                .check(Check::OneOf(&["bilinear", "nearest"]))
+                .doc("texel interpolation"),
+            Param::string("wrap_mode", "repeat")
+                .check(Check::OneOf(&["repeat", "mirror", "clamp"]))
+                .doc("lookups outside [0, 1)"),
+            Param::new("to_uv", Ty::Transform, DefaultValue::Derived("identity"))
+                .doc("applied to the surface UV before the lookup"),
+        ]] load);
+
+fn load(a: &mut Args, want: Want) -> Result<Texture, SceneError> {
+    let path = a
+        .path("filename")?
+        .ok_or_else(|| a.error("filename", "missing"))?;
+    let mut image = read_image(&path).map_err(|e| a.error("filename", format!("bitmap: {e}")))?;
+    let raw = a.bool("raw")?;
+    let is_8bit = path.extension().and_then(|e| e.to_str()).is_some_and(|e| {
+        ["png", "jpg", "jpeg"]
+            .iter()
+            .any(|x| e.eq_ignore_ascii_case(x))
+    });
+    if raw && is_8bit {
+        // PNG and JPEG are read as sRGB-encoded colour; raw data (normal maps) keeps the
+        // stored values.
+        for c in &mut image.data {
+            *c = c.map(crate::spectrum::cie::srgb_encode);
+        }
+    }
+    let bilinear = a.string("filter_type")? == "bilinear";
+    let wrap = match a.string("wrap_mode")?.as_str() {
+        "mirror" => Wrap::Mirror,
+        "clamp" => Wrap::Clamp,
+        _ => Wrap::Repeat,
+    };
+    let b = Arc::new(Bitmap::new(
+        image,
+        bilinear,
+        wrap,
+        uv_transform(&a.transform("to_uv")?),
+    ));
+    Ok(match want {
+        Want::Spectrum(_) => Texture::Spectrum(SpectrumTexture::Bitmap(b)),
+        Want::Float => Texture::Float(FloatTexture::Bitmap(b)),
+        Want::Normals => Texture::Normals(NormalSource::Bitmap(b)),
+    })
+}
 
 /// How lookups outside [0, 1) are folded back.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -1,10 +1,14 @@
-//! Textures: spatially varying spectra and scalars looked up by surface UV.
+//! Textures: spatially varying spectra and scalars looked up by surface UV. A texture plugin
+//! is asked for what its user needs ([`Want`]: a colour, a number or tangent-space normals) and
+//! answers with a [`Texture`] of that kind.
 
 use crate::math::{Mat3, Vec2, Vec3};
+use crate::plugin::SpectrumKind;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
 use std::sync::Arc;
 
 pub mod bitmap;
+pub mod checkerboard;
 pub mod head_shields;
 pub mod per_scale;
 pub mod scales;
@@ -12,6 +16,34 @@ pub mod scales;
 pub use bitmap::Bitmap;
 pub use per_scale::PerScale;
 pub use scales::{Layout, Scales};
+
+/// What a texture is asked for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Want {
+    /// A colour, uplifted as this kind of spectrum.
+    Spectrum(SpectrumKind),
+    /// A number.
+    Float,
+    /// Tangent-space normals (for `normalmap`).
+    Normals,
+}
+
+/// A texture of the kind asked for.
+#[derive(Clone, Debug)]
+pub enum Texture {
+    Spectrum(SpectrumTexture),
+    Float(FloatTexture),
+    Normals(NormalSource),
+}
+
+/// Where a `normalmap` takes its tangent-space normals from.
+#[derive(Clone, Debug)]
+pub enum NormalSource {
+    /// The slope of a `scales` relief.
+    Scales(Arc<Scales>),
+    /// An image (`bitmap`, usually with `raw="true"`): n = 2·rgb − 1.
+    Bitmap(Arc<Bitmap>),
+}
 
 /// Where a texture is looked up.
 #[derive(Clone, Copy, Debug, Default)]
@@ -57,7 +89,7 @@ impl SpectrumTexture {
                 color1,
                 to_uv,
             } => {
-                if checker(*to_uv, tc.uv) {
+                if checkerboard::is_color0(*to_uv, tc.uv) {
                     color0.sample(wl)
                 } else {
                     color1.sample(wl)
@@ -118,7 +150,7 @@ impl FloatTexture {
                 color1,
                 to_uv,
             } => {
-                if checker(*to_uv, tc.uv) {
+                if checkerboard::is_color0(*to_uv, tc.uv) {
                     *color0
                 } else {
                     *color1
@@ -127,15 +159,6 @@ impl FloatTexture {
             FloatTexture::Bitmap(b) => b.value(tc.uv),
             FloatTexture::Scales(s) => s.height(tc.uv, 0.0),
             FloatTexture::PerScale(p) => p.eval(tc.uv),
-        }
-    }
-
-    /// Value seen through a footprint `footprint` UV units wide along u and v (detail finer
-    /// than that fades).
-    pub fn eval_filtered(&self, tc: &TexCoord, footprint: Vec2) -> f32 {
-        match self {
-            FloatTexture::Scales(s) => s.height(tc.uv, s.cells_across(footprint)),
-            _ => self.eval(tc),
         }
     }
 
@@ -167,10 +190,12 @@ impl FloatTexture {
     }
 }
 
-#[inline]
-fn checker(to_uv: Mat3, uv: Vec2) -> bool {
-    let t = to_uv.transform_point2(uv);
-    let fx = t.x - t.x.floor();
-    let fy = t.y - t.y.floor();
-    (fx > 0.5) == (fy > 0.5)
+/// The 2D affine part of a `to_uv` transform, acting on (u, v, 1) as in Mitsuba.
+pub(crate) fn uv_transform(t: &crate::math::Transform) -> Mat3 {
+    let m = t.m;
+    Mat3::from_cols(
+        Vec3::new(m.x_axis.x, m.x_axis.y, 0.0),
+        Vec3::new(m.y_axis.x, m.y_axis.y, 0.0),
+        Vec3::new(m.w_axis.x, m.w_axis.y, 1.0),
+    )
 }

@@ -7,20 +7,79 @@
 //! values are uniform over [`min`, `max`) and constant over each scale (grooves included: a
 //! groove point belongs to its nearest cell).
 //!
-//! | XML name  | type          | default | unit | meaning                                       |
-//! |-----------|---------------|---------|------|-----------------------------------------------|
-//! | (nested)  | texture       | —       | —    | the `scales` texture whose cells are used (nested or `<ref>`; share one with the bump map so that the values follow the visible scales) |
-//! | `min`     | float         | 0       | any  | value for id = 0                               |
-//! | `max`     | float         | 1       | any  | value for id → 1                               |
-//! | `mean`    | float         | —       | any  | alternative to `min`/`max`: the centre …       |
-//! | `spread`  | float         | —       | any  | … and half width: [mean − spread, mean + spread) |
+//! ## Parameters
+//!
+//! | parameter | type | default | unit | meaning |
+//! |---|---|---|---|---|
+//! | `(nested)` | texture | required | — | the `scales` texture whose cells are used (nested or `<ref>`; share one with the bump map so that the values follow the visible scales) |
+//! | `min` | float | 0.0 | — | value for id = 0 |
+//! | `max` | float | 1.0 | — | value for id → 1 |
+//! | `mean` | float | — | — | alternative to `min`/`max`: the centre … |
+//! | `spread` | float | — | — | … and half width: [mean − spread, mean + spread); non-negative |
 //!
 //! Limits: uniform distribution only; no filtering (the value is constant per cell, so there is
 //! nothing to blur until cells shrink below a pixel, where it should average — it does not).
 
-use super::scales::Scales;
+use super::scales::{load_cells, Scales};
+use super::{FloatTexture, Texture, Want};
 use crate::math::Vec2;
+use crate::plugin::{declare, Args, Check, DefaultValue, Param, SceneError, Tag, Ty};
 use std::sync::Arc;
+
+declare!(
+    /// The `per_scale` plugin.
+    pub(crate) PLUGIN: Texture, Want = Texture "per_scale" []
+    "a number per scale of a `scales` texture (e.g. a film thickness)"
+    [&[
+            Param::new("(nested)", Ty::Texture, DefaultValue::Required).doc(
+                "the `scales` texture whose cells are used (nested or `<ref>`; share one with \
+                 the bump map so that the values follow the visible scales)",
+            ),
+            Param::float("min", 0.0).doc("value for id = 0"),
+            Param::float("max", 1.0).doc("value for id → 1"),
+            Param::new("mean", Ty::Float, DefaultValue::None)
+                .doc("alternative to `min`/`max`: the centre …"),
+            Param::new("spread", Ty::Float, DefaultValue::None)
+                .check(Check::NonNegative)
+                .doc("… and half width: [mean − spread, mean + spread)"),
+        ]] load);
+
+fn load(a: &mut Args, want: Want) -> Result<Texture, SceneError> {
+    if want != Want::Float {
+        return Err(SceneError::at(
+            &a.node().loc,
+            "per_scale gives a number per scale; it cannot be used as a colour or for normals",
+        ));
+    }
+    let inner = a.children(Tag::Texture);
+    let cells = match inner.as_slice() {
+        [c] if super::scales::PLUGIN.info.is_called(&c.plugin) => {
+            let info = &super::scales::PLUGIN.info;
+            let mut w = Vec::new();
+            let cells = load_cells(&Args::new(c, info, &mut w))?;
+            a.warnings().extend(w);
+            cells
+        }
+        _ => {
+            return Err(SceneError::at(
+                &a.node().loc,
+                "per_scale needs exactly one nested (or referenced) 'scales' texture",
+            ))
+        }
+    };
+    let (lo, hi) = if a.has("mean") || a.has("spread") {
+        let mean = a.float_opt("mean")?.unwrap_or(0.5);
+        let spread = a.float_opt("spread")?.unwrap_or(0.0);
+        (mean - spread, mean + spread)
+    } else {
+        (a.float("min")?, a.float("max")?)
+    };
+    Ok(Texture::Float(FloatTexture::PerScale(PerScale {
+        cells: Arc::new(cells),
+        lo,
+        hi,
+    })))
+}
 
 /// A per-cell value in [`lo`, `hi`).
 #[derive(Clone, Debug)]

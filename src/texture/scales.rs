@@ -39,30 +39,34 @@
 //! out instead of aliasing. The bump path estimates the footprint from the camera (see
 //! `bsdf/bumpmap.rs`).
 //!
-//! | XML name       | type   | default | unit    | meaning                                          |
-//! |----------------|--------|---------|---------|--------------------------------------------------|
-//! | `scale_u`      | float  | 20      | 1/UV    | cells per unit u                                 |
-//! | `scale_v`      | float  | 20      | 1/UV    | rows per unit v                                  |
-//! | `irregularity` | float  | 0.3     | —       | 0 = regular hexagons … 1 = Voronoi-like jitter   |
-//! | `gap`          | float  | 0.08    | cells   | groove width at half height (`line_width` alias) |
-//! | `dome`         | float  | 0.5     | —       | 0 = flat top … 1 = fully rounded                 |
-//! | `overlap`      | float  | 0.3     | —       | 0 = symmetric … 1 = a ramp rising to the free edge |
-//! | `overlap_angle`| float  | 90      | degrees | direction of the free edge in cell space (0 = +u, 90 = +v) |
-//! | `tilt_degrees` | float  | 0       | degrees | largest random tilt of a scale's normal          |
-//! | `seed`         | integer| 0       | —       | changes the random numbers                       |
-//! | `layout`       | string | `hex`   | —       | `hex`, `rows` (ventral plates) or `head` (head shields) |
-//! | `color0`       | colour | 0.4     | —       | colour of the scales (colour lookups)            |
-//! | `color1`       | colour | 0.1     | —       | colour of the grooves (colour lookups)           |
+//! ## Parameters
 //!
-//! Accepted names: `scales`, and the seed's `reptileSkin` (with `color0`, `color1`, `lineWidth`,
-//! which 0.6 scenes upgrade to `line_width`, read as `gap`).
+//! | parameter | type | default | unit | meaning |
+//! |---|---|---|---|---|
+//! | `scale_u` | float | 20.0 | 1/UV | cells per unit u; in (0, 1000000] |
+//! | `scale_v` | float | 20.0 | 1/UV | rows per unit v; in (0, 1000000] |
+//! | `irregularity` | float | 0.3 | — | 0 = regular hexagons … 1 = Voronoi-like jitter; between 0 and 1 |
+//! | `gap`, `line_width` (0.6: `lineWidth`) | float | 0.08 | cells | groove width at half height; between 0 and 0.5 |
+//! | `dome` | float | 0.5 | — | 0 = flat top … 1 = fully rounded; between 0 and 1 |
+//! | `overlap` | float | 0.3 | — | 0 = symmetric … 1 = a ramp rising to the free edge; between 0 and 1 |
+//! | `overlap_angle` | float | 90.0 | degrees | direction of the free edge in cell space (0 = +u, 90 = +v) |
+//! | `tilt_degrees` | float | 0.0 | degrees | largest random tilt of a scale's normal; between 0 and 45 |
+//! | `seed` | integer | 0 | — | changes the random numbers; between 0 and 4294967295 |
+//! | `layout` | string | `hex` | — | cell layout: `hex` (dorsal scales), `rows` (ventral plates) or `head` (head shields); one of 'hex', 'rows', 'head' |
+//! | `color0` | spectrum | 0.4 | — | colour of the scales (colour lookups) |
+//! | `color1` | spectrum | 0.1 | — | colour of the grooves (colour lookups) |
+//!
+//! Accepted names: `scales`, and the thesis's `reptileSkin` (with `color0`, `color1`,
+//! `lineWidth`, which 0.6 scenes upgrade to `line_width`, read as `gap`).
 //!
 //! Limits: the footprint estimate ignores anisotropy beyond the larger axis; cells are defined in
 //! UV space, so a parametrisation that stretches UV stretches the scales.
 
 use super::head_shields::{self, HEAD_CELLS};
+use super::{FloatTexture, NormalSource, SpectrumTexture, Texture, Want};
 use crate::math::Vec2;
-use std::sync::OnceLock;
+use crate::plugin::{declare, Args, Check, DefaultValue, Param, SceneError, SpectrumKind, Ty};
+use std::sync::{Arc, OnceLock};
 
 /// How cells are laid out (see the module header).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -92,6 +96,105 @@ impl Layout {
 fn head_seeds() -> &'static [Vec2] {
     static SEEDS: OnceLock<Vec<Vec2>> = OnceLock::new();
     SEEDS.get_or_init(head_shields::seeds)
+}
+
+/// The parameters.
+const PARAMS: &[Param] = &[
+    Param::float("scale_u", 20.0)
+        .check(Check::OpenClosed(0.0, 1e6))
+        .unit("1/UV")
+        .doc("cells per unit u"),
+    Param::float("scale_v", 20.0)
+        .check(Check::OpenClosed(0.0, 1e6))
+        .unit("1/UV")
+        .doc("rows per unit v"),
+    Param::float("irregularity", 0.3)
+        .check(Check::Range(0.0, 1.0))
+        .doc("0 = regular hexagons … 1 = Voronoi-like jitter"),
+    Param::float("gap", 0.08)
+        .also(&["line_width"])
+        .v06("lineWidth")
+        .check(Check::Range(0.0, 0.5))
+        .unit("cells")
+        .doc("groove width at half height"),
+    Param::float("dome", 0.5)
+        .check(Check::Range(0.0, 1.0))
+        .doc("0 = flat top … 1 = fully rounded"),
+    Param::float("overlap", 0.3)
+        .check(Check::Range(0.0, 1.0))
+        .doc("0 = symmetric … 1 = a ramp rising to the free edge"),
+    Param::float("overlap_angle", 90.0)
+        .unit("degrees")
+        .doc("direction of the free edge in cell space (0 = +u, 90 = +v)"),
+    Param::float("tilt_degrees", 0.0)
+        .check(Check::Range(0.0, 45.0))
+        .unit("degrees")
+        .doc("largest random tilt of a scale's normal"),
+    Param::int("seed", 0)
+        .check(Check::Range(0.0, u32::MAX as f64))
+        .doc("changes the random numbers"),
+    Param::string("layout", "hex")
+        .check(Check::OneOf(&["hex", "rows", "head"]))
+        .doc(
+            "cell layout: `hex` (dorsal scales), `rows` (ventral plates) or `head` (head shields)",
+        ),
+    Param::new(
+        "color0",
+        Ty::Spectrum(SpectrumKind::Albedo),
+        DefaultValue::Float(0.4),
+    )
+    .doc("colour of the scales (colour lookups)"),
+    Param::new(
+        "color1",
+        Ty::Spectrum(SpectrumKind::Albedo),
+        DefaultValue::Float(0.1),
+    )
+    .doc("colour of the grooves (colour lookups)"),
+];
+
+declare!(
+    /// The `scales` plugin.
+    pub(crate) PLUGIN: Texture, Want = Texture "scales" ["reptileSkin", "reptile_skin"]
+    "procedural reptile scales: a height, a colour, or normals"
+    [PARAMS] load);
+
+/// The pattern's parameters.
+pub(crate) fn load_cells(a: &Args) -> Result<Scales, SceneError> {
+    let angle = a.float("overlap_angle")?.to_radians();
+    Ok(Scales {
+        scale_u: a.float("scale_u")?,
+        scale_v: a.float("scale_v")?,
+        irregularity: a.float("irregularity")?,
+        gap: a.float("gap")?,
+        dome: a.float("dome")?,
+        overlap: a.float("overlap")?,
+        overlap_dir: Vec2::new(angle.cos(), angle.sin()),
+        tilt: a.float("tilt_degrees")?.to_radians(),
+        seed: a.int("seed")? as u32,
+        // The declaration's check admits only the three names.
+        layout: Layout::from_name(&a.string("layout")?).unwrap_or_default(),
+    })
+}
+
+fn load(a: &mut Args, want: Want) -> Result<Texture, SceneError> {
+    let cells = Arc::new(load_cells(a)?);
+    Ok(match want {
+        Want::Spectrum(kind) => Texture::Spectrum(SpectrumTexture::Scales {
+            cells,
+            color0: a.spectrum_as("color0", kind)?,
+            color1: a.spectrum_as("color1", kind)?,
+        }),
+        Want::Float | Want::Normals => {
+            // Colours mean nothing to a height; mark them read so they do not warn as misspelt.
+            a.ignore("color0")?;
+            a.ignore("color1")?;
+            if want == Want::Float {
+                Texture::Float(FloatTexture::Scales(cells))
+            } else {
+                Texture::Normals(NormalSource::Scales(cells))
+            }
+        }
+    })
 }
 
 /// Parameters of the scale pattern (see the module header).

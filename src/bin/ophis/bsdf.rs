@@ -3,10 +3,10 @@
 
 use anyhow::{anyhow, bail, Result};
 use clap::Parser;
-use ophis::bsdf::inspect::{at_wavelength, bsdf_ids, find_bsdf, linear_srgb, plots, Quantity};
 use ophis::bsdf::testing::Estimate;
 use ophis::scene::build::build_material;
 use ophis::scene::mitsuba::load_file;
+use ophis::tools::inspect::{at_wavelength, bsdf_ids, find_bsdf, linear_srgb, plots, Quantity};
 use std::path::PathBuf;
 
 /// Arguments of `ophis bsdf`.

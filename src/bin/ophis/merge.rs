@@ -12,6 +12,8 @@ pub struct MergeArgs {
     /// The merged EXR to write.
     output: PathBuf,
     /// EXR files written by `ophis render` (same scene and resolution, different seeds).
+    /// Renders of different scenes (by `ophis.scene_hash`) or with overlapping seeds are
+    /// refused.
     #[arg(required = true, num_args = 1..)]
     inputs: Vec<PathBuf>,
 }
@@ -33,8 +35,12 @@ pub fn run(args: MergeArgs) -> Result<()> {
             metadata,
         });
     }
-    let (image, meta) = merge(&inputs).map_err(anyhow::Error::msg)?;
-    write_exr(&args.output, &image, &meta)
+    let merged = merge(&inputs).map_err(anyhow::Error::msg)?;
+    for w in &merged.warnings {
+        eprintln!("warning: {w}");
+    }
+    let meta = merged.metadata;
+    write_exr(&args.output, &merged.image, &meta)
         .with_context(|| format!("writing {}", args.output.display()))?;
     let samples = meta
         .iter()

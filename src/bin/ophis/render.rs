@@ -5,12 +5,13 @@ use clap::Parser;
 use indicatif::{ProgressBar, ProgressStyle};
 use ophis::checkpoint::{hash_bytes, RenderState, StateInfo};
 use ophis::film::Film;
-use ophis::gallery::XENOPELTIS_XML;
 use ophis::image_io::{write_exr, write_exr_channels, write_png, RgbImage};
 use ophis::integrator::PathStrategy;
-use ophis::merge::{encode_tile_spp, film_tile_spp, KEY_SAMPLES, KEY_SEED, KEY_SPP, KEY_TILE_SPP};
+use ophis::merge::{render_metadata, SceneIdentity};
 use ophis::render::{render_with, Progress, RenderControl, RenderOptions, TileOrder};
-use ophis::scene::build::{load_scene, load_scene_str, LoadOptions};
+use ophis::scene::build::{load_scene_into, load_scene_str_into, LoadOptions};
+use ophis::scene::builtin::XENOPELTIS_XML;
+use ophis::scene::mitsuba;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -239,6 +240,18 @@ fn plan(args: &RenderArgs, defines: Vec<(String, String)>, base: &Path) -> Resul
     })
 }
 
+/// What identifies the scene in the EXR header, for `ophis merge`: a hash of the tree as
+/// loaded (read once more; the builder does not hand its tree back) and a readable name.
+fn identity(scene: &Path, defines: &[(String, String)]) -> Result<SceneIdentity> {
+    let (root, _) = if scene == Path::new(BUILTIN) {
+        mitsuba::load_str(XENOPELTIS_XML, Path::new("xenopeltis.xml"), defines)?
+    } else {
+        mitsuba::load_file(scene, defines)?
+    };
+    let name = scene.file_name().unwrap_or_default().to_string_lossy();
+    Ok(SceneIdentity::of(&root, &name, defines))
+}
+
 fn tile_order(name: &str, seed: u64) -> TileOrder {
     match name {
         "reversed" => TileOrder::Reversed,
@@ -285,17 +298,26 @@ pub fn run(args: RenderArgs) -> Result<()> {
         seed: (args.seed.is_some() || args.resume.is_some()).then_some(plan.info.seed),
         ..Default::default()
     };
-    let (scene, warnings) = if plan.scene == Path::new(BUILTIN) {
+    let mut warnings = Vec::new();
+    let loaded = if plan.scene == Path::new(BUILTIN) {
         if !args.quiet {
             eprintln!("rendering the built-in Xenopeltis scene (scenes/xenopeltis.xml)");
         }
-        load_scene_str(XENOPELTIS_XML, Path::new("xenopeltis.xml"), &load_opts)?
+        load_scene_str_into(
+            XENOPELTIS_XML,
+            Path::new("xenopeltis.xml"),
+            &load_opts,
+            &mut warnings,
+        )
     } else {
-        load_scene(&plan.scene, &load_opts)?
+        load_scene_into(&plan.scene, &load_opts, &mut warnings)
     };
+    // Warnings first, also when loading failed: they often explain the error.
     for w in &warnings {
         eprintln!("warning: {w}");
     }
+    let scene = loaded?;
+    let scene_id = identity(&plan.scene, &plan.info.defines)?;
     plan.info.spp = scene.sampler.spp;
     plan.info.seed = scene.sampler.seed;
     let mut film = match plan.film.take() {
@@ -380,15 +402,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
         height: film.height as usize,
         data: film.to_linear_srgb(),
     };
-    let meta = vec![
-        (KEY_SPP.to_string(), stats.spp_complete.to_string()),
-        (KEY_SAMPLES.to_string(), kept.to_string()),
-        (
-            KEY_TILE_SPP.to_string(),
-            encode_tile_spp(&film_tile_spp(&film)),
-        ),
-        (KEY_SEED.to_string(), scene.sampler.seed.to_string()),
-    ];
+    let meta = render_metadata(&film, stats.spp_complete, scene.sampler.seed, &scene_id);
     let (extra, aov_meta) = aov_outputs(&scene, &film, &image);
     let meta: Vec<(String, String)> = meta.into_iter().chain(aov_meta).collect();
     for o in &outputs {

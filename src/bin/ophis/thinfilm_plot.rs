@@ -1,34 +1,44 @@
 //! The figures of `ophis thinfilm`: R(λ) curves per angle (`--plot`) and the thickness × angle
 //! colour chart (`--chart`), drawn with `ophis::plot`.
 
-use anyhow::{Context, Result};
+use anyhow::{anyhow, Context, Result};
 use ophis::image_io::RgbImage;
-use ophis::optics::filmtool::FilmStack;
+use ophis::optics::filmstack::FilmStack;
+use ophis::optics::filmtool::rt_deg;
 use ophis::plot::{color_map, LineChart};
 use std::path::Path;
 
+/// "n 1 | 1.56:900 | 1.5": outside medium, layers outside in, base.
 fn describe(st: &FilmStack) -> String {
-    let film = match st.film {
-        ophis::bsdf::filmmaterial::FilmIor::Constant(n) => format!("{n}"),
-        ophis::bsdf::filmmaterial::FilmIor::Keratin => "keratin".to_string(),
-    };
-    let base = if st.base_k > 0.0 {
-        format!("{}+{}i", st.base_n, st.base_k)
-    } else {
-        format!("{}", st.base_n)
-    };
-    format!("n {} | {film} | {base}", st.ext)
+    format!("n {} | {} | {}", st.ext(), st, st.base())
+}
+
+/// The chart's title: one film without its (ignored) thickness, a stack as it is.
+fn describe_chart(st: &FilmStack) -> String {
+    match st.layers().next() {
+        Some(l) if st.n_layers() == 1 => format!("n {} | {} | {}", st.ext(), l.ior, st.base()),
+        _ => describe(st),
+    }
 }
 
 /// R(λ) for each angle.
-pub fn plot(st: &FilmStack, angles: &[f64], wavelengths: &[f64], path: &Path) -> Result<()> {
+pub fn plot(
+    st: &FilmStack,
+    angles: &[f64],
+    wavelengths: &[f64],
+    from_inside: bool,
+    path: &Path,
+) -> Result<()> {
     let mut ch = LineChart::new(
-        &format!("Film reflectance, {}, d = {} nm", describe(st), st.d_nm),
+        &format!("Film reflectance, {}", describe(st)),
         "wavelength (nm)",
         "R",
     );
     for &a in angles {
-        let pts = wavelengths.iter().map(|&l| (l, st.rt(a, l).r())).collect();
+        let pts = wavelengths
+            .iter()
+            .map(|&l| (l, rt_deg(st, a, l, from_inside).r()))
+            .collect();
         ch.add(&format!("{a} deg"), pts);
     }
     let y_max = ch
@@ -43,10 +53,10 @@ pub fn plot(st: &FilmStack, angles: &[f64], wavelengths: &[f64], path: &Path) ->
 }
 
 /// Colour of reflected D65 over thickness (x) × angle (y).
-pub fn chart(st: &FilmStack, range: (f64, f64), path: &Path) -> Result<()> {
+pub fn chart(st: &FilmStack, range: (f64, f64), from_inside: bool, path: &Path) -> Result<()> {
     let (w, h) = (300usize, 90usize);
-    let data = st
-        .chart(range.0, range.1, w, h, 2)
+    let data = ophis::optics::filmtool::chart(st, range.0, range.1, w, h, 2, from_inside)
+        .map_err(|e| anyhow!("--chart: {e}"))?
         .into_iter()
         .map(|c| c.map(|v| v.clamp(0.0, 1.0)))
         .collect();
@@ -59,8 +69,12 @@ pub fn chart(st: &FilmStack, range: (f64, f64), path: &Path) -> Result<()> {
         &img,
         range,
         (0.0, 90.0),
-        &format!("Reflected D65, {}", describe(st)),
-        "film thickness (nm)",
+        &format!("Reflected D65, {}", describe_chart(st)),
+        if st.n_layers() > 1 {
+            "stack thickness (nm), layers scaled together"
+        } else {
+            "film thickness (nm)"
+        },
         "angle (deg)",
         900,
         420,

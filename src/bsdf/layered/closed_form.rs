@@ -32,7 +32,7 @@
 //! a plain coat, a miss for film coats, whose wavelengths change per path.
 
 use crate::bsdf::fresnel::fresnel_dielectric;
-use crate::bsdf::{BsdfSample, BxdfFlags, TransportMode};
+use crate::bsdf::{BsdfSample, BxdfFlags};
 use crate::math::{warp, Pcg32, Vec2, Vec3, INV_PI};
 use crate::optics::thinfilm::film_rt;
 use crate::spectrum::{SampledSpectrum, N};
@@ -430,7 +430,7 @@ impl CoatedDiffuse {
     }
 
     /// The diffuse part of the BSDF (no cosine).
-    pub fn f(&self, wo: Vec3, wi: Vec3, _m: TransportMode, _rng: &mut Pcg32) -> SampledSpectrum {
+    pub fn f(&self, wo: Vec3, wi: Vec3) -> SampledSpectrum {
         if wo.z <= 0.0 || wi.z <= 0.0 {
             return SampledSpectrum::ZERO;
         }
@@ -440,7 +440,7 @@ impl CoatedDiffuse {
     }
 
     /// Exact density of the non-delta samples.
-    pub fn pdf(&self, wo: Vec3, wi: Vec3, _m: TransportMode, _rng: &mut Pcg32) -> f32 {
+    pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
         if wo.z <= 0.0 || wi.z <= 0.0 || self.k_norm <= 0.0 {
             return 0.0;
         }
@@ -450,14 +450,7 @@ impl CoatedDiffuse {
     }
 
     /// Samples the delta lobe or the diffuse part (see the module doc).
-    pub fn sample_f(
-        &self,
-        wo: Vec3,
-        uc: f32,
-        u: Vec2,
-        mode: TransportMode,
-        rng: &mut Pcg32,
-    ) -> Option<BsdfSample> {
+    pub fn sample_f(&self, wo: Vec3, uc: f32, u: Vec2, rng: &mut Pcg32) -> Option<BsdfSample> {
         if wo.z <= 0.0 {
             return None;
         }
@@ -477,11 +470,11 @@ impl CoatedDiffuse {
             let wi = warp::square_to_cosine_hemisphere(uu);
             let t_bar = 1.0 - self.coat.outside(wi.z).average();
             if wi.z > 0.0 && rng.next_f32() < t_bar {
-                let pdf = self.pdf(wo, wi, mode, rng);
+                let pdf = self.pdf(wo, wi);
                 if pdf.is_nan() || pdf <= 0.0 {
                     return None;
                 }
-                let f = self.f(wo, wi, mode, rng);
+                let f = self.f(wo, wi);
                 return Some(BsdfSample::new(f, wi, pdf, BxdfFlags::DIFFUSE_REFLECTION));
             }
             uu = rng.next_vec2();

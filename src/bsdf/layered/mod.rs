@@ -4,20 +4,27 @@
 //! dielectric coat over a non-scattering medium over a Lambertian base is evaluated in closed
 //! form instead (see [`closed_form`]) unless `closed_form` is false.
 //!
-//! | XML name        | type        | default | meaning |
-//! |-----------------|-------------|---------|---------|
-//! | `nb_layers`     | integer     | number of `surface_i` | N, number of interfaces (2–4) |
-//! | `surface_0 … surface_{N−1}` | nested bsdf | — | interfaces, top first |
-//! | `sigma_t_i`     | spectrum    | 0       | extinction of medium i (between surface i and i+1) = its optical depth (unit thickness) |
-//! | `albedo_i`      | spectrum    | 0       | single-scattering albedo of medium i |
-//! | `phase_i`       | float, or nested `phase` (`hg` with `g`, `isotropic`) | 0 | Henyey–Greenstein g of medium i |
-//! | `closed_form`   | boolean     | true    | use the closed form when the stack allows it |
-//! | `max_depth`     | integer     | −1      | safety bound on walk vertices (−1: 256); Russian roulette ends walks |
-//! | `pdf`, `diffuse_pdf`, `stoch_pdf_depth`, `pdf_repetitive`, `bidir`, `mis` | — | — | accepted for the seed's scenes and ignored: ophis's `pdf` is the mixture below |
+//! ## Parameters
 //!
-//! Seed names (Mitsuba 0.6, upgraded on load): `nbLayers`, `sigmaT_i`, `maxDepth`,
-//! `diffusePdf`. The seed's media were Mitsuba `homogeneous` objects; here they are per-layer
-//! parameters.
+//! | parameter | type | default | unit | meaning |
+//! |---|---|---|---|---|
+//! | `nb_layers` (0.6: `nbLayers`) | integer | number of `surface_i` | — | N, the number of interfaces; between 2 and 4 |
+//! | `surface_i` | bsdf | required | — | interface i (0 … N − 1), top first |
+//! | `sigma_t_i` (0.6: `sigmaT_i`) | spectrum or texture | 0.0 | — | extinction of medium i (between surface i and i + 1) = its optical depth |
+//! | `albedo_i` | spectrum or texture | 0.0 | — | single-scattering albedo of medium i |
+//! | `phase_i` | float | 0.0 | — | Henyey–Greenstein g of medium i, or a nested `phase` (`hg`, `isotropic`); strictly between -1 and 1 |
+//! | `closed_form` | boolean | true | — | use the closed form when the stack allows it |
+//! | `max_depth` (0.6: `maxDepth`) | integer | -1 | — | safety bound on walk vertices (−1: 256); Russian roulette ends walks |
+//! | `pdf` | string | — | — |  |
+//! | `diffuse_pdf` (0.6: `diffusePdf`) | float | — | — |  |
+//! | `stoch_pdf_depth` | integer | — | — |  |
+//! | `pdf_repetitive` | integer | — | — |  |
+//! | `bidir` | boolean | — | — |  |
+//! | `mis` | boolean | — | — |  |
+//! | `bidir_use_analog` | boolean | — | — |  |
+//! | `max_survival_prob` | float | — | — | (these eight: the thesis's PFMC settings, accepted and ignored) |
+//!
+//! The thesis's media were Mitsuba `homogeneous` objects; here they are per-layer parameters.
 //!
 //! - `sample_f`: exact weight from the analog walk; `pdf_is_proportional` is set (the MIS
 //!   density comes from `pdf`), except for all-delta paths (the coat's specular reflection),
@@ -25,6 +32,10 @@
 //! - `f`: an unbiased stochastic estimate; `pdf`: for reflection, ½ entrance-interface pdf +
 //!   ½ cosine (only the cosine when the entrance is smooth); for a stack that transmits, half
 //!   of the mass goes to a cosine lobe below. Exact for the closed form.
+//! - Random numbers: the walk is the one stochastic BSDF, so it is the one that draws random
+//!   numbers. It draws them from a generator seeded by a hash of the seed it was built with
+//!   (one per path vertex, from the integrator) and of the directions it is asked about, so `f`
+//!   and `pdf` are deterministic functions of (wo, wi) and every call is reproducible.
 //! - Known limits: at most 4 interfaces; interfaces are horizontal (no per-layer normal maps);
 //!   every shading point builds the stack in one heap allocation (the `Bxdf::Layered` box).
 
@@ -36,19 +47,199 @@ mod tests_walk;
 pub mod walk;
 
 use super::{BsdfSample, Bxdf, BxdfFlags, TransportMode};
+use crate::math::rng::mix64;
 use crate::math::{warp, Pcg32, Vec2, Vec3, INV_PI};
 use closed_form::{CoatOptics, CoatedDiffuse};
 pub use walk::{Medium, Stack, DEFAULT_MAX_DEPTH, MAX_INTERFACES};
 
+use crate::bsdf::material::{LayerMedium, Material};
+use crate::plugin::{
+    declare, Args, Check, DefaultValue, Param, SceneError, SpectrumKind, Tag, Ty, Value,
+};
 use crate::spectrum::SampledSpectrum;
 
-/// A layered BSDF: the closed form or the random walk.
-// One allocation per shading point either way: `Bxdf::Layered` boxes the whole enum.
+/// Parameters the thesis's `multilayered` takes that ophis accepts and ignores (its `pdf` is
+/// ophis's own mixture; its eval is unidirectional).
+const IGNORED: [&str; 8] = [
+    "pdf",
+    "diffuse_pdf",
+    "stoch_pdf_depth",
+    "pdf_repetitive",
+    "bidir",
+    "mis",
+    "bidir_use_analog",
+    "max_survival_prob",
+];
+
+declare!(
+    /// The `multilayered` plugin.
+    pub(crate) PLUGIN: Material = Bsdf "multilayered" []
+    "a stack of interfaces and media, by position-free Monte Carlo"
+    [
+            &[
+                Param::new(
+                    "nb_layers",
+                    Ty::Integer,
+                    DefaultValue::Derived("number of `surface_i`"),
+                )
+                .v06("nbLayers")
+                .check(Check::Range(2.0, MAX_INTERFACES as f64))
+                .doc("N, the number of interfaces"),
+                Param::new("surface_i", Ty::Bsdf, DefaultValue::Required)
+                    .doc("interface i (0 … N − 1), top first"),
+                Param::new(
+                    "sigma_t_i",
+                    Ty::SpectrumTexture(SpectrumKind::Unbounded),
+                    DefaultValue::Float(0.0),
+                )
+                .v06("sigmaT_i")
+                .doc("extinction of medium i (between surface i and i + 1) = its optical depth"),
+                Param::new(
+                    "albedo_i",
+                    Ty::SpectrumTexture(SpectrumKind::Albedo),
+                    DefaultValue::Float(0.0),
+                )
+                .doc("single-scattering albedo of medium i"),
+                Param::new("phase_i", Ty::Float, DefaultValue::Float(0.0))
+                    .check(Check::Open(-1.0, 1.0))
+                    .doc(
+                        "Henyey–Greenstein g of medium i, or a nested `phase` (`hg`, `isotropic`)",
+                    ),
+                Param::bool("closed_form", true)
+                    .doc("use the closed form when the stack allows it"),
+                Param::int("max_depth", -1)
+                    .v06("maxDepth")
+                    .doc("safety bound on walk vertices (−1: 256); Russian roulette ends walks"),
+            ],
+            &[
+                Param::new("pdf", Ty::String, DefaultValue::None),
+                Param::new("diffuse_pdf", Ty::Float, DefaultValue::None).v06("diffusePdf"),
+                Param::new("stoch_pdf_depth", Ty::Integer, DefaultValue::None),
+                Param::new("pdf_repetitive", Ty::Integer, DefaultValue::None),
+                Param::new("bidir", Ty::Boolean, DefaultValue::None),
+                Param::new("mis", Ty::Boolean, DefaultValue::None),
+                Param::new("bidir_use_analog", Ty::Boolean, DefaultValue::None),
+                Param::new("max_survival_prob", Ty::Float, DefaultValue::None)
+                    .doc("(these eight: the thesis's PFMC settings, accepted and ignored)"),
+            ],
+        ] load);
+
+fn load(a: &mut Args, _: ()) -> Result<Material, SceneError> {
+    let node = a.node();
+    let named = (0..)
+        .take_while(|i| node.child(&format!("surface_{i}")).is_some())
+        .count() as i64;
+    let n = a.int_opt("nb_layers")?.unwrap_or(named);
+    if !(2..=MAX_INTERFACES as i64).contains(&n) {
+        return Err(a.error(
+            "nb_layers",
+            format!("must be between 2 and {MAX_INTERFACES}, got {n}"),
+        ));
+    }
+    let n = n as usize;
+    let mut surfaces = Vec::with_capacity(n);
+    for i in 0..n {
+        let name = format!("surface_{i}");
+        let child = node
+            .child(&name)
+            .filter(|c| c.tag == Tag::Bsdf)
+            .ok_or_else(|| {
+                SceneError::at(
+                    &node.loc,
+                    format!(
+                        "{} needs a nested bsdf named '{name}' (nb_layers = {n})",
+                        a.describe()
+                    ),
+                )
+            })?;
+        surfaces.push(a.bsdf(child)?);
+    }
+    let mut media = Vec::with_capacity(n - 1);
+    for i in 0..n - 1 {
+        media.push(LayerMedium {
+            sigma_t: a.spectrum_texture(&format!("sigma_t_{i}"))?,
+            albedo: a.spectrum_texture(&format!("albedo_{i}"))?,
+            g: phase_g(a, i)?,
+        });
+    }
+    let max_depth = a.int("max_depth")?;
+    let max_depth = if max_depth <= 0 {
+        DEFAULT_MAX_DEPTH
+    } else {
+        max_depth.min(1 << 20) as u32
+    };
+    let closed_form = a.bool("closed_form")?;
+    for name in IGNORED {
+        a.ignore(name)?;
+    }
+    Ok(Material::Multilayered {
+        surfaces,
+        media,
+        max_depth,
+        closed_form,
+    })
+}
+
+/// `phase_i`: a float (HG g) or a nested `phase` (`hg` with `g`, or `isotropic`).
+fn phase_g(a: &mut Args, i: usize) -> Result<f32, SceneError> {
+    let name = format!("phase_{i}");
+    if let Some(ph) = a.child(&name)?.filter(|c| c.tag == Tag::Phase) {
+        return match ph.plugin.as_str() {
+            "isotropic" => Ok(0.0),
+            "hg" => {
+                let g = match ph.props.get("g") {
+                    Some((Value::Float(_) | Value::Integer(_), _)) => {
+                        ph.props.get_float("g", 0.0)?
+                    }
+                    Some(_) => return Err(ph.props.type_error("g", "a float")),
+                    None => 0.0,
+                };
+                if g > -1.0 && g < 1.0 {
+                    Ok(g)
+                } else {
+                    Err(SceneError::at(
+                        ph.props.location("g").unwrap_or(&ph.loc),
+                        format!(
+                            "'g' of {} must be strictly between -1 and 1, got {g}",
+                            ph.describe()
+                        ),
+                    ))
+                }
+            }
+            other => Err(SceneError::at(
+                &ph.loc,
+                format!(
+                    "phase '{other}' is not supported in multilayered (use 'hg' or 'isotropic')"
+                ),
+            )),
+        };
+    }
+    a.float(&name)
+}
+
+/// How a layered BSDF is evaluated: the closed form or the random walk.
+// One allocation per shading point either way: `Bxdf::Layered` boxes the whole struct.
 #[allow(clippy::large_enum_variant)]
 #[derive(Clone, Debug)]
-pub enum LayeredBxdf {
+pub enum LayeredModel {
     Closed(CoatedDiffuse),
     Walk(Stack),
+}
+
+/// A layered BSDF and the seed of its random numbers.
+#[derive(Clone, Debug)]
+pub struct LayeredBxdf {
+    pub model: LayeredModel,
+    pub seed: u64,
+}
+
+/// A generator for one query, from the seed and the query's arguments.
+fn query_rng(seed: u64, a: Vec3, b: Vec3, c: f32) -> Pcg32 {
+    let bits = |v: Vec3| {
+        ((v.x.to_bits() as u64) << 32 | v.y.to_bits() as u64) ^ mix64(v.z.to_bits() as u64)
+    };
+    let h = mix64(seed ^ mix64(bits(a) ^ mix64(bits(b) ^ c.to_bits() as u64)));
+    Pcg32::new(h, seed)
 }
 
 /// The coat optics of an interface the closed form can handle (a smooth dielectric with unit
@@ -57,29 +248,29 @@ pub fn coat_optics(b: &Bxdf) -> Option<CoatOptics> {
     use crate::bsdf::filmfresnel::FilmMode;
     match b {
         Bxdf::Dielectric(d) if d.r_s == SampledSpectrum::ONE && d.t_s == SampledSpectrum::ONE => {
-            Some(CoatOptics::Dielectric { eta: d.eta })
+            Some(CoatOptics::Dielectric { eta: d.fresnel.eta })
         }
         // A smooth film on a dielectric coat, computed exactly (the thesis mode and absorbing
         // bases have no closed form here and take the random walk).
         Bxdf::ThinFilm(t)
             if t.r_s == SampledSpectrum::ONE
                 && t.t_s == SampledSpectrum::ONE
-                && t.film.mode == FilmMode::Spectral
-                && t.film.spectral.base_k.iter().all(|&k| k == 0.0)
-                && t.film
+                && t.fresnel.mode == FilmMode::Spectral
+                && t.fresnel.spectral.base_k.iter().all(|&k| k == 0.0)
+                && t.fresnel
                     .spectral
                     .base_n
                     .iter()
-                    .all(|&n| n == t.film.spectral.base_n[0]) =>
+                    .all(|&n| n == t.fresnel.spectral.base_n[0]) =>
         {
             // Indices relative to the outer medium; the vacuum wavelength shrinks with it so
             // that the film's phase 2π n1 d cos θ1 / λ is unchanged.
-            let ext = t.film.ext;
-            let s = &t.film.spectral;
+            let ext = t.fresnel.ext;
+            let s = &t.fresnel.spectral;
             Some(CoatOptics::Film {
                 eta: s.base_n[0] / ext,
                 film_ior: s.film.map(|f| f / ext),
-                thickness_nm: t.film.d_nm,
+                thickness_nm: t.fresnel.d_nm,
                 lambda: s.lambda.map(|l| l / ext),
             })
         }
@@ -95,25 +286,28 @@ impl LayeredBxdf {
         media: &[Medium],
         max_depth: u32,
         allow_closed: bool,
+        seed: u64,
     ) -> Option<LayeredBxdf> {
         let (ifs, n) = walk::inline_interfaces(interfaces)?;
         if allow_closed && n == 2 && media.len() == 1 && !media[0].scatters() {
             if let (Some(coat), Bxdf::Diffuse(base)) = (coat_optics(&ifs[0]), &ifs[1]) {
-                return Some(LayeredBxdf::Closed(CoatedDiffuse::new(
-                    coat,
-                    base.r,
-                    media[0].sigma_t,
-                )));
+                return Some(LayeredBxdf {
+                    model: LayeredModel::Closed(CoatedDiffuse::new(coat, base.r, media[0].sigma_t)),
+                    seed,
+                });
             }
         }
-        Stack::from_parts(ifs, n, media, max_depth).map(LayeredBxdf::Walk)
+        Stack::from_parts(ifs, n, media, max_depth).map(|s| LayeredBxdf {
+            model: LayeredModel::Walk(s),
+            seed,
+        })
     }
 
     /// Lobe flags.
     pub fn flags(&self) -> BxdfFlags {
-        match self {
-            LayeredBxdf::Closed(c) => c.flags(),
-            LayeredBxdf::Walk(s) => {
+        match &self.model {
+            LayeredModel::Closed(c) => c.flags(),
+            LayeredModel::Walk(s) => {
                 let ifs = s.interfaces();
                 let top = ifs[0].flags();
                 let mut f = BxdfFlags::REFLECTION;
@@ -126,7 +320,8 @@ impl LayeredBxdf {
                     f = f | BxdfFlags::GLOSSY_REFLECTION;
                 }
                 if self.transmits() {
-                    f = f | BxdfFlags::TRANSMISSION | BxdfFlags(f.0 & (8 | 16));
+                    // Whatever kinds of lobe reflect also transmit.
+                    f = f | BxdfFlags::TRANSMISSION | f.and(BxdfFlags::KINDS);
                 }
                 f
             }
@@ -135,9 +330,9 @@ impl LayeredBxdf {
 
     /// Whether light can cross the whole stack.
     fn transmits(&self) -> bool {
-        match self {
-            LayeredBxdf::Closed(_) => false,
-            LayeredBxdf::Walk(s) => s
+        match &self.model {
+            LayeredModel::Closed(_) => false,
+            LayeredModel::Walk(s) => s
                 .interfaces()
                 .iter()
                 .all(|b| b.flags().intersects(BxdfFlags::TRANSMISSION)),
@@ -145,18 +340,18 @@ impl LayeredBxdf {
     }
 
     /// BSDF value (a stochastic estimate for the walk).
-    pub fn f(&self, wo: Vec3, wi: Vec3, mode: TransportMode, rng: &mut Pcg32) -> SampledSpectrum {
-        match self {
-            LayeredBxdf::Closed(c) => c.f(wo, wi, mode, rng),
-            LayeredBxdf::Walk(s) => s.eval(wo, wi, mode, rng),
+    pub fn f(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> SampledSpectrum {
+        match &self.model {
+            LayeredModel::Closed(c) => c.f(wo, wi),
+            LayeredModel::Walk(s) => s.eval(wo, wi, mode, &mut query_rng(self.seed, wo, wi, 0.0)),
         }
     }
 
     /// Sampling density (exact for the closed form, an approximation for MIS otherwise).
-    pub fn pdf(&self, wo: Vec3, wi: Vec3, mode: TransportMode, rng: &mut Pcg32) -> f32 {
-        match self {
-            LayeredBxdf::Closed(c) => c.pdf(wo, wi, mode, rng),
-            LayeredBxdf::Walk(s) => {
+    pub fn pdf(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> f32 {
+        match &self.model {
+            LayeredModel::Closed(c) => c.pdf(wo, wi),
+            LayeredModel::Walk(s) => {
                 if wo.z == 0.0 || wi.z == 0.0 {
                     return 0.0;
                 }
@@ -172,7 +367,7 @@ impl LayeredBxdf {
                 };
                 let b = &s.interfaces()[ent];
                 let p = if b.flags().is_non_specular() {
-                    0.5 * b.pdf(wo, wi, mode, rng) + 0.5 * cos
+                    0.5 * b.pdf(wo, wi, mode) + 0.5 * cos
                 } else {
                     cos
                 };
@@ -182,17 +377,11 @@ impl LayeredBxdf {
     }
 
     /// Samples the walk (or the closed form).
-    pub fn sample_f(
-        &self,
-        wo: Vec3,
-        uc: f32,
-        u: Vec2,
-        mode: TransportMode,
-        rng: &mut Pcg32,
-    ) -> Option<BsdfSample> {
-        let s = match self {
-            LayeredBxdf::Closed(c) => return c.sample_f(wo, uc, u, mode, rng),
-            LayeredBxdf::Walk(s) => s,
+    pub fn sample_f(&self, wo: Vec3, uc: f32, u: Vec2, mode: TransportMode) -> Option<BsdfSample> {
+        let rng = &mut query_rng(self.seed, wo, Vec3::new(u.x, u.y, 1.0), uc);
+        let s = match &self.model {
+            LayeredModel::Closed(c) => return c.sample_f(wo, uc, u, rng),
+            LayeredModel::Walk(s) => s,
         };
         if wo.z == 0.0 {
             return None;
@@ -212,7 +401,7 @@ impl LayeredBxdf {
             });
         }
         let pdf = self
-            .pdf(wo, wi, mode, rng)
+            .pdf(wo, wi, mode)
             .max(1e-6 * warp::square_to_uniform_sphere_pdf());
         let flags = if refl {
             BxdfFlags::GLOSSY_REFLECTION

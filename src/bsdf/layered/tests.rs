@@ -4,10 +4,8 @@
 use super::closed_form::{CoatOptics, CoatedDiffuse};
 use super::*;
 use crate::bsdf::absorption::AbsorptionBxdf;
-use crate::bsdf::dielectric::DielectricBxdf;
 use crate::bsdf::diffuse::DiffuseBxdf;
 use crate::bsdf::testing::{self, direction, Chi2Config};
-use crate::math::Pcg32;
 
 pub(super) const RAD: TransportMode = TransportMode::Radiance;
 
@@ -15,7 +13,7 @@ pub(super) fn splat(v: f32) -> SampledSpectrum {
     SampledSpectrum::splat(v)
 }
 pub(super) fn coat(eta: f32) -> Bxdf {
-    Bxdf::Dielectric(DielectricBxdf::new(eta, splat(1.0), splat(1.0)))
+    Bxdf::dielectric(eta, splat(1.0), splat(1.0))
 }
 pub(super) fn base(rho: f32) -> Bxdf {
     Bxdf::Diffuse(DiffuseBxdf::new(splat(rho)))
@@ -70,10 +68,7 @@ fn albedo_matches_research_table() {
 
 #[test]
 fn point_values_and_pdf_match_research_table() {
-    let mut rng = Pcg32::new(1, 1);
-    let f = |c: &CoatedDiffuse, ti: f32, to: f32, rng: &mut Pcg32| {
-        c.f(direction(ti, 0.0), direction(to, 2.0), RAD, rng)[0]
-    };
+    let f = |c: &CoatedDiffuse, ti: f32, to: f32| c.f(direction(ti, 0.0), direction(to, 2.0))[0];
     let (c0, c14) = (closed(0.0, 0.5), closed(1.4, 0.5));
     for (ti, to, want0, want14) in [
         (0.0, 0.0, 0.092886, 0.003975),
@@ -82,7 +77,7 @@ fn point_values_and_pdf_match_research_table() {
         (60.0, 30.0, 0.087987, 0.002525),
         (0.0, 80.0, 0.059243, 0.001607),
     ] {
-        let (a, b) = (f(&c0, ti, to, &mut rng), f(&c14, ti, to, &mut rng));
+        let (a, b) = (f(&c0, ti, to), f(&c14, ti, to));
         assert!((a - want0).abs() < 1e-5, "f({ti},{to}) τ 0: {a} vs {want0}");
         assert!(
             (b - want14).abs() < 1e-6,
@@ -94,7 +89,7 @@ fn point_values_and_pdf_match_research_table() {
         (45.0, 45.0, 0.223548),
         (30.0, 60.0, 0.152982),
     ] {
-        let p = c0.pdf(direction(ti, 0.0), direction(to, 1.0), RAD, &mut rng);
+        let p = c0.pdf(direction(ti, 0.0), direction(to, 1.0));
         assert!((p - want).abs() < 2e-5, "pdf({ti},{to}) {p} vs {want}");
     }
 }
@@ -156,7 +151,10 @@ fn film_top_matches_research_table() {
 }
 
 fn closed_bxdf(c: CoatedDiffuse) -> Bxdf {
-    Bxdf::Layered(Box::new(LayeredBxdf::Closed(c)))
+    Bxdf::Layered(Box::new(LayeredBxdf {
+        model: LayeredModel::Closed(c),
+        seed: 0,
+    }))
 }
 
 #[test]
@@ -188,7 +186,7 @@ fn closed_form_sampling_chi2_and_albedo() {
         // Mean sample weight (delta lobe included) = closed-form albedo.
         let est = testing::albedo(b, wo, RAD, 40_000, 77 + i as u64, true);
         let Bxdf::Layered(l) = b else { unreachable!() };
-        let LayeredBxdf::Closed(c) = l.as_ref() else {
+        let LayeredModel::Closed(c) = &l.model else {
             unreachable!()
         };
         let want = c.albedo(wo.z);
@@ -205,16 +203,15 @@ fn closed_form_sampling_chi2_and_albedo() {
 
 #[test]
 fn absorption_is_the_index_matched_closed_form() {
-    let mut rng = Pcg32::new(3, 3);
     let a = AbsorptionBxdf::new(splat(0.6), splat(0.7), 2.0);
     let c = CoatedDiffuse::new(CoatOptics::Dielectric { eta: 1.0 }, splat(0.6), splat(1.4));
     for (ti, to) in [(0.0, 0.0), (30.0, 70.0), (80.0, 10.0)] {
         let (wo, wi) = (direction(ti, 0.0), direction(to, 1.0));
-        let (x, y) = (a.f(wo, wi, RAD, &mut rng)[0], c.f(wo, wi, RAD, &mut rng)[0]);
+        let (x, y) = (a.f(wo, wi)[0], c.f(wo, wi)[0]);
         assert!((x - y).abs() <= 1e-5 * x.max(1e-6), "{ti},{to}: {x} vs {y}");
     }
     // Thesis parameters: σa = 0.7, d = 2 at normal incidence both ways: ρ/π e^{−2.8}.
-    let v = a.f(direction(0.0, 0.0), direction(0.0, 0.0), RAD, &mut rng)[0];
+    let v = a.f(direction(0.0, 0.0), direction(0.0, 0.0))[0];
     assert!((v - 0.6 / std::f32::consts::PI * (-2.8f32).exp()).abs() < 1e-7);
 }
 

@@ -5,7 +5,6 @@
 use super::tests::{base, closed, coat, splat, RAD};
 use super::*;
 use crate::bsdf::microfacet::{MicrofacetDistribution, MicrofacetType};
-use crate::bsdf::roughdielectric::RoughDielectricBxdf;
 use crate::bsdf::testing::{self, direction, Chi2Config, Estimate};
 use crate::math::Pcg32;
 
@@ -15,27 +14,36 @@ fn walk(tau: f32, rho: f32) -> Bxdf {
         &[Medium::absorbing(splat(tau))],
         DEFAULT_MAX_DEPTH,
         false,
+        0,
     )
     .unwrap();
-    assert!(matches!(l, LayeredBxdf::Walk(_)));
+    assert!(matches!(l.model, LayeredModel::Walk(_)));
     Bxdf::Layered(Box::new(l))
 }
 
 /// GGX α = 0.3 coat over a scattering medium over a Lambertian base.
 fn rough_scattering() -> Bxdf {
-    let top = Bxdf::RoughDielectric(RoughDielectricBxdf::new(
+    let top = Bxdf::rough_dielectric(
         MicrofacetDistribution::new(MicrofacetType::Ggx, 0.3, 0.3),
         1.5,
         splat(1.0),
         splat(1.0),
-    ));
+    );
     let m = Medium {
         sigma_t: SampledSpectrum([0.5, 1.0, 1.5, 2.0]),
         albedo: splat(0.8),
         g: 0.3,
     };
-    let l = LayeredBxdf::new(vec![top, base(0.7)], &[m], DEFAULT_MAX_DEPTH, true).unwrap();
+    let l = LayeredBxdf::new(vec![top, base(0.7)], &[m], DEFAULT_MAX_DEPTH, true, 0).unwrap();
     Bxdf::Layered(Box::new(l))
+}
+
+/// `f` of a stochastic BSDF with a fresh seed from `rng` (its value at a pair is a
+/// deterministic function of its seed).
+fn f_fresh(b: &Bxdf, wo: Vec3, wi: Vec3, rng: &mut Pcg32) -> SampledSpectrum {
+    let mut b = b.clone();
+    b.reseed((rng.next_u32() as u64) << 32 | rng.next_u32() as u64);
+    b.f(wo, wi, RAD)
 }
 
 /// Mean and standard error of channel 0 of `n` calls.
@@ -82,8 +90,8 @@ fn walk_matches_closed_form() {
             (0.0, 80.0),
         ] {
             let (wo, wi) = (direction(ti, 0.0), direction(to, 2.5));
-            let want = c.f(wo, wi, RAD, &mut rng)[0] as f64;
-            let e = mean_of(4_000, || w.f(wo, wi, RAD, &mut rng)[0]);
+            let want = c.f(wo, wi)[0] as f64;
+            let e = mean_of(4_000, || f_fresh(&w, wo, wi, &mut rng)[0]);
             close(&e, want, &format!("f({ti},{to}) τ {tau}"));
             // The estimator must be sharp enough for the comparison to mean something.
             assert!(e.std_err < 0.05 * want, "f({ti},{to}) τ {tau}: {e:?}");
@@ -110,7 +118,10 @@ fn walk_directions_follow_the_exact_pdf() {
     // White base, no absorption: weights are all 1, roulette never fires, so the walk's
     // directions must have exactly the closed form's density (research/layered.md §3.3).
     let w = walk(0.0, 1.0);
-    let c = Bxdf::Layered(Box::new(LayeredBxdf::Closed(closed(0.0, 1.0))));
+    let c = Bxdf::Layered(Box::new(LayeredBxdf {
+        model: LayeredModel::Closed(closed(0.0, 1.0)),
+        seed: 0,
+    }));
     for (i, theta) in [20.0f32, 70.0].into_iter().enumerate() {
         let cfg = Chi2Config {
             seed: 50 + i as u64,
@@ -125,8 +136,8 @@ fn reciprocity(b: &Bxdf, pairs: &[(f32, f32)], n: usize, seed: u64) {
     let mut rng = Pcg32::new(seed, 1);
     for &(ta, tb) in pairs {
         let (a, bb) = (direction(ta, 0.3), direction(tb, 2.0));
-        let x = mean_of(n, || b.f(a, bb, RAD, &mut rng)[0]);
-        let y = mean_of(n, || b.f(bb, a, RAD, &mut rng)[0]);
+        let x = mean_of(n, || f_fresh(b, a, bb, &mut rng)[0]);
+        let y = mean_of(n, || f_fresh(b, bb, a, &mut rng)[0]);
         assert!(
             x.agrees_with(&y, 4.0),
             "f({ta},{tb}) {x:?} vs f({tb},{ta}) {y:?}"
@@ -149,7 +160,7 @@ fn walk_reciprocity_smooth_and_rough() {
 #[test]
 fn rough_scattering_stack_energy_and_consistency() {
     let b = rough_scattering();
-    assert!(matches!(&b, Bxdf::Layered(l) if matches!(l.as_ref(), LayeredBxdf::Walk(_))));
+    assert!(matches!(&b, Bxdf::Layered(l) if matches!(l.model, LayeredModel::Walk(_))));
     let mut rng = Pcg32::new(5, 5);
     for (i, theta) in [0.0f32, 60.0].into_iter().enumerate() {
         let wo = direction(theta, 0.0);
@@ -160,7 +171,8 @@ fn rough_scattering_stack_energy_and_consistency() {
         let n = 20_000;
         let mut hist = [[0.0f64; 2]; BINS];
         for _ in 0..n {
-            let bs = b.sample_f(wo, rng.next_f32(), rng.next_vec2(), RAD, &mut rng);
+            let (uc, u) = (rng.next_f32(), rng.next_vec2());
+            let bs = b.sample_f(wo, uc, u, RAD);
             if let Some(bs) = bs.filter(|s| s.wi.z > 0.0) {
                 let v = (bs.f[0] * bs.wi.z / bs.pdf) as f64;
                 let k = ((bs.wi.z * BINS as f32) as usize).min(BINS - 1);
@@ -181,7 +193,7 @@ fn rough_scattering_stack_energy_and_consistency() {
                 let phi = 2.0 * crate::math::PI * rng.next_f32();
                 let s = (1.0 - c * c).max(0.0).sqrt();
                 let wi = Vec3::new(s * phi.cos(), s * phi.sin(), c);
-                b.f(wo, wi, RAD, &mut rng)[0] * c * 2.0 * crate::math::PI * width
+                f_fresh(&b, wo, wi, &mut rng)[0] * c * 2.0 * crate::math::PI * width
             });
             assert!(
                 sampled.agrees_with(&eval, 4.0),

@@ -289,7 +289,7 @@ impl Stack {
             } else {
                 (rng.next_f32(), rng.next_vec2())
             };
-            let bs = self.interfaces[k].sample_f(w_o, uc_k, u_k, mode, rng)?;
+            let bs = self.interfaces[k].sample_f(w_o, uc_k, u_k, mode)?;
             if (bs.pdf.is_nan() || bs.pdf <= 0.0) || bs.wi.z == 0.0 {
                 return None;
             }
@@ -331,7 +331,8 @@ impl Stack {
         let mut beta = SampledSpectrum::ONE;
         let (mut pdf_e, mut delta_e, mut rr) = (0.0, true, 1.0f32);
         for len in 1..=self.max_depth {
-            let bs = self.interfaces[k].sample_f(w, rng.next_f32(), rng.next_vec2(), adj, rng)?;
+            let (uc, u) = (rng.next_f32(), rng.next_vec2());
+            let bs = self.interfaces[k].sample_f(w, uc, u, adj)?;
             if (bs.pdf.is_nan() || bs.pdf <= 0.0) || bs.wi.z == 0.0 {
                 return None;
             }
@@ -382,7 +383,7 @@ impl Stack {
         let ent = if wo.z > 0.0 { 0 } else { self.n - 1 };
         let exit = if wi.z > 0.0 { 0 } else { self.n - 1 };
         let mut acc = if ent == exit {
-            self.interfaces[ent].f(wo, wi, mode, rng)
+            self.interfaces[ent].f(wo, wi, mode)
         } else {
             SampledSpectrum::ZERO
         };
@@ -399,10 +400,10 @@ impl Stack {
         while depth < self.max_depth {
             let b = &self.interfaces[k];
             if k == ch.target {
-                let fk = b.f(w_o, wl, mode, rng);
+                let fk = b.f(w_o, wl, mode);
                 if !fk.is_black() {
                     let mis = if ch.mis {
-                        power_heuristic(ch.pdf_e, b.pdf(w_o, wl, mode, rng))
+                        power_heuristic(ch.pdf_e, b.pdf(w_o, wl, mode))
                     } else {
                         1.0
                     };
@@ -410,7 +411,8 @@ impl Stack {
                     acc += beta * fk * tr * ch.beta * mis;
                 }
             }
-            let Some(bs) = b.sample_f(w_o, rng.next_f32(), rng.next_vec2(), mode, rng) else {
+            let (uc, u) = (rng.next_f32(), rng.next_vec2());
+            let Some(bs) = b.sample_f(w_o, uc, u, mode) else {
                 break;
             };
             if (bs.pdf.is_nan() || bs.pdf <= 0.0)
@@ -456,11 +458,11 @@ impl Stack {
             let k_next = if dir.z < 0.0 { layer + 1 } else { layer };
             if ch.mis && layer == ch.layer && k_next == ch.c {
                 let e = &self.interfaces[ch.c];
-                let fe = e.f(-dir, wi, mode, rng);
+                let fe = e.f(-dir, wi, mode);
                 if !fe.is_black() {
                     let mis = match p_dir {
                         None => 1.0,
-                        Some(p) => power_heuristic(p, e.pdf(wi, -dir, adj, rng)),
+                        Some(p) => power_heuristic(p, e.pdf(wi, -dir, adj)),
                     };
                     acc += beta * fe * mis;
                 }

@@ -2,16 +2,13 @@
 //! integrator settings, shapes with their materials and area lights, other emitters, the BVH.
 
 mod emitters;
-mod layered;
 mod materials;
 mod procedural;
-mod scales;
 mod shapes;
-mod thinfilm;
-pub mod values;
+pub use crate::plugin::values;
 
 use super::mitsuba::{self, Node, SceneError, Tag, Warning};
-use super::{IntegratorSettings, SamplerSettings, Scene};
+use super::{IntegratorKind, IntegratorSettings, SamplerSettings, Scene};
 use crate::accel::Bvh;
 use crate::bsdf::Material;
 use crate::camera::{Camera, FovAxis, OrthographicCamera, PerspectiveCamera, ThinLensCamera};
@@ -46,11 +43,21 @@ pub const MAX_RESOLUTION: i64 = 1 << 15;
 /// ([`crate::limits`]). Warnings (unknown plugins, unused parameters) are returned
 /// rather than printed.
 pub fn load_scene(path: &Path, opts: &LoadOptions) -> Result<(Scene, Vec<Warning>), SceneError> {
-    let (root, mut warnings) = mitsuba::load_file(path, &opts.defines)?;
-    crate::limits::check(&root, crate::limits::machine_memory())?;
-    let scene = build_scene(&root, opts, &mut warnings)?;
-    warnings.extend(mitsuba::check_unused(&root));
+    let mut warnings = Vec::new();
+    let scene = load_scene_into(path, opts, &mut warnings)?;
     Ok((scene, warnings))
+}
+
+/// [`load_scene`] that adds its warnings to `warnings` even when loading fails, so that the
+/// warnings leading up to an error (a `<path>` refused, a parameter misspelled) can be shown
+/// with it.
+pub fn load_scene_into(
+    path: &Path,
+    opts: &LoadOptions,
+    warnings: &mut Vec<Warning>,
+) -> Result<Scene, SceneError> {
+    let root = mitsuba::load_file_into(path, &opts.defines, warnings)?;
+    finish(&root, opts, warnings)
 }
 
 /// Loads a scene from XML text (`file_name` names it in messages and anchors relative paths).
@@ -59,11 +66,31 @@ pub fn load_scene_str(
     file_name: &Path,
     opts: &LoadOptions,
 ) -> Result<(Scene, Vec<Warning>), SceneError> {
-    let (root, mut warnings) = mitsuba::load_str(xml, file_name, &opts.defines)?;
-    crate::limits::check(&root, crate::limits::machine_memory())?;
-    let scene = build_scene(&root, opts, &mut warnings)?;
-    warnings.extend(mitsuba::check_unused(&root));
+    let mut warnings = Vec::new();
+    let scene = load_scene_str_into(xml, file_name, opts, &mut warnings)?;
     Ok((scene, warnings))
+}
+
+/// [`load_scene_str`] that adds its warnings to `warnings` even when loading fails.
+pub fn load_scene_str_into(
+    xml: &str,
+    file_name: &Path,
+    opts: &LoadOptions,
+    warnings: &mut Vec<Warning>,
+) -> Result<Scene, SceneError> {
+    let root = mitsuba::load_str_into(xml, file_name, &opts.defines, warnings)?;
+    finish(&root, opts, warnings)
+}
+
+fn finish(
+    root: &Node,
+    opts: &LoadOptions,
+    warnings: &mut Vec<Warning>,
+) -> Result<Scene, SceneError> {
+    crate::limits::check(root, crate::limits::machine_memory())?;
+    let scene = build_scene(root, opts, warnings)?;
+    warnings.extend(mitsuba::check_unused(root));
+    Ok(scene)
 }
 
 /// Everything collected while walking the tree.
@@ -78,6 +105,8 @@ pub(crate) struct Builder {
     pub material_ids: HashMap<*const Node, u32>,
     pub lights: Vec<Light>,
     pub default_material: Option<u32>,
+    /// The black diffuse BSDF of emitters declared without a BSDF (shared).
+    pub black_material: Option<u32>,
 }
 
 fn build_scene(
@@ -91,7 +120,30 @@ fn build_scene(
     for child in &root.children {
         let node = &child.node;
         match node.tag {
+            Tag::Shape if node.plugin == "shapegroup" => {
+                if !shapes::is_instanced(root, node) {
+                    warnings.push(Warning {
+                        loc: node.loc.clone(),
+                        message: format!(
+                            "{} is never instanced; it shows nothing",
+                            node.describe()
+                        ),
+                    });
+                }
+            }
             Tag::Shape => shapes::add_shape(&mut b, node, warnings)?,
+            // Declared for shapes that attach it with <ref id="…"/>.
+            Tag::Emitter if node.plugin == "area" && node.id.is_some() => {
+                if !attached_anywhere(root, node) {
+                    warnings.push(Warning {
+                        loc: node.loc.clone(),
+                        message: format!(
+                            "{} is attached to no shape; it emits nothing",
+                            node.describe()
+                        ),
+                    });
+                }
+            }
             Tag::Emitter => emitters::add_emitter(&mut b, node, warnings)?,
             Tag::Sensor => {
                 if sensor.is_some() {
@@ -195,24 +247,91 @@ fn build_scene(
     })
 }
 
+/// Whether some shape (or a shape in a `shapegroup`) holds `emitter` as a child.
+fn attached_anywhere(root: &Node, emitter: &Arc<Node>) -> bool {
+    let holds = |s: &Node| s.children.iter().any(|c| Arc::ptr_eq(&c.node, emitter));
+    root.children_with_tag(Tag::Shape)
+        .any(|s| holds(s) || s.children_with_tag(Tag::Shape).any(|g| holds(g)))
+}
+
 fn build_integrator(
     node: &Node,
     warnings: &mut Vec<Warning>,
 ) -> Result<IntegratorSettings, SceneError> {
-    match node.plugin.as_str() {
-        "path" => {}
+    let kind = match node.plugin.as_str() {
+        "path" => IntegratorKind::Path,
         "aov" => return build_aov(node, warnings),
-        other => warnings.push(Warning {
-            loc: node.loc.clone(),
-            message: format!(
-                "integrator '{other}' is not supported; using 'path' with its parameters"
-            ),
-        }),
-    }
+        // Mitsuba's `moment` renders its (first) nested integrator and adds second-moment AOVs.
+        "moment" => {
+            let nested: Vec<&Arc<Node>> = node.children_with_tag(Tag::Integrator).collect();
+            let Some(first) = nested.first() else {
+                return Err(SceneError::at(
+                    &node.loc,
+                    "integrator 'moment' needs a nested integrator, e.g. <integrator type=\"path\"/>",
+                ));
+            };
+            let extra = if nested.len() > 1 {
+                format!(
+                    " (the first of its {}; the others are ignored)",
+                    nested.len()
+                )
+            } else {
+                String::new()
+            };
+            warnings.push(Warning {
+                loc: node.loc.clone(),
+                message: format!(
+                    "integrator 'moment': rendering its nested integrator{extra}; the \
+                     second-moment AOVs are not written"
+                ),
+            });
+            return build_integrator(first, warnings);
+        }
+        "direct" => {
+            let shading = node.props.contains("shading_samples");
+            if shading
+                && (node.props.contains("emitter_samples") || node.props.contains("bsdf_samples"))
+            {
+                return Err(SceneError::at(
+                    &node.loc,
+                    "integrator 'direct': found 'shading_samples' and 'emitter_samples' or \
+                     'bsdf_samples'; expected either the first or the others",
+                ));
+            }
+            let all = checked_int(node, "shading_samples", 1, 0, 1 << 16)?;
+            let emitter_samples = checked_int(node, "emitter_samples", all, 0, 1 << 16)? as u32;
+            let bsdf_samples = checked_int(node, "bsdf_samples", all, 0, 1 << 16)? as u32;
+            if emitter_samples + bsdf_samples == 0 {
+                return Err(SceneError::at(
+                    &node.loc,
+                    "integrator 'direct': found no emitter or BSDF samples; expected at least one",
+                ));
+            }
+            let hide_emitters = node.props.get_bool("hide_emitters", false)?;
+            return Ok(IntegratorSettings {
+                kind: IntegratorKind::Direct {
+                    emitter_samples,
+                    bsdf_samples,
+                },
+                hide_emitters,
+                ..IntegratorSettings::default()
+            });
+        }
+        other => {
+            warnings.push(Warning {
+                loc: node.loc.clone(),
+                message: format!(
+                    "integrator '{other}' is not supported; using 'path' with its parameters"
+                ),
+            });
+            IntegratorKind::Path
+        }
+    };
     let max_depth = checked_int(node, "max_depth", -1, -1, 1 << 20)?;
     let rr_depth = checked_int(node, "rr_depth", 5, 0, 1 << 20)?;
     let hide_emitters = node.props.get_bool("hide_emitters", false)?;
     Ok(IntegratorSettings {
+        kind,
         max_depth: if max_depth < 0 {
             None
         } else {

@@ -1,25 +1,126 @@
-//! Shapes: Mitsuba's `sphere`, `disk`, `rectangle`, `cube`, `obj`, `ply`, each with its BSDF
-//! (nested or `<ref>`) and optional area emitter. A `snake` becomes one shape per part; a nested
-//! BSDF named after a part (`belly`, `head`, `eyes`, `body`) is that part's, the unnamed one
-//! every other part's.
+//! Shapes: Mitsuba's `sphere`, `disk`, `rectangle`, `cube`, `cylinder`, `obj`, `ply`,
+//! `serialized`, each with its BSDF (nested or `<ref>`; an emitter without one is black, and
+//! any other shape diffuse 0.5, as in Mitsuba 3) and optional area emitter; and
+//! `shapegroup` / `instance`, flattened at load: every instance adds a copy of the group's shapes
+//! moved by the instance's `to_world` (materials are shared; memory grows with the copies).
+//! As in Mitsuba, a group may not hold instances or groups. A `snake` becomes one shape per
+//! part; a nested BSDF named after a part (`belly`, `head`, `eyes`, `body`) is that part's, the
+//! unnamed one every other part's.
 
 use super::emitters::area_light;
 use super::materials::material_for;
 use super::Builder;
+use crate::bsdf::Material;
 use crate::math::{Transform, Vec3};
 use crate::scene::mitsuba::{Node, SceneError, Tag, Warning};
-use crate::shape::{MeshOptions, Shape, Sphere, TriangleMesh};
+use crate::shape::{Cylinder, LoadError, MeshError, MeshOptions, Shape, Sphere, TriangleMesh};
+use crate::spectrum::Spectrum;
+use crate::texture::SpectrumTexture;
+use std::sync::Arc;
 
 pub(crate) fn add_shape(
     b: &mut Builder,
     node: &Node,
     warnings: &mut Vec<Warning>,
 ) -> Result<(), SceneError> {
+    add_shape_at(b, node, &Transform::IDENTITY, warnings)
+}
+
+/// Whether an `instance` among the scene's shapes refers to `group`.
+pub(crate) fn is_instanced(root: &Node, group: &Arc<Node>) -> bool {
+    root.children_with_tag(Tag::Shape)
+        .filter(|s| s.plugin == "instance")
+        .any(|s| s.children.iter().any(|c| Arc::ptr_eq(&c.node, group)))
+}
+
+/// The shapes of the group an `instance` refers to, placed by `to_world`.
+fn instance(
+    b: &mut Builder,
+    node: &Node,
+    to_world: &Transform,
+    warnings: &mut Vec<Warning>,
+) -> Result<(), SceneError> {
+    let groups: Vec<&Arc<Node>> = node
+        .children_with_tag(Tag::Shape)
+        .filter(|g| g.plugin == "shapegroup")
+        .collect();
+    let [group] = groups[..] else {
+        return Err(SceneError::at(
+            &node.loc,
+            format!(
+                "{} refers to {} shapegroups; expected one, e.g. <ref id=\"group\"/>",
+                node.describe(),
+                groups.len()
+            ),
+        ));
+    };
+    for c in &node.children {
+        if !Arc::ptr_eq(&c.node, group) {
+            warnings.push(Warning {
+                loc: c.node.loc.clone(),
+                message: format!(
+                    "{} inside {} is ignored",
+                    c.node.describe(),
+                    node.describe()
+                ),
+            });
+        }
+    }
+    for c in &group.children {
+        let s = &c.node;
+        match (s.tag, s.plugin.as_str()) {
+            (Tag::Shape, "instance" | "shapegroup") => {
+                return Err(SceneError::at(
+                    &s.loc,
+                    format!(
+                        "{} inside {}: nested instancing is not supported (nor is it in Mitsuba)",
+                        s.describe(),
+                        group.describe()
+                    ),
+                ))
+            }
+            (Tag::Shape, _) => add_shape_at(b, s, to_world, warnings)?,
+            _ => warnings.push(Warning {
+                loc: s.loc.clone(),
+                message: format!(
+                    "{} inside {} is ignored (a shapegroup holds shapes)",
+                    s.describe(),
+                    group.describe()
+                ),
+            }),
+        }
+    }
+    Ok(())
+}
+
+/// A shape whose own `to_world` is applied after `parent` (an instance's placement).
+fn add_shape_at(
+    b: &mut Builder,
+    node: &Node,
+    parent: &Transform,
+    warnings: &mut Vec<Warning>,
+) -> Result<(), SceneError> {
     let err =
         |e: &dyn std::fmt::Display| SceneError::at(&node.loc, format!("{}: {e}", node.describe()));
-    let to_world = node.props.get_transform("to_world", Transform::IDENTITY)?;
+    let to_world = parent.compose(&node.props.get_transform("to_world", Transform::IDENTITY)?);
+    match node.plugin.as_str() {
+        "instance" => return instance(b, node, &to_world, warnings),
+        // Built through the instances that refer to it.
+        "shapegroup" => return Ok(()),
+        _ => {}
+    }
     let flip = node.props.get_bool("flip_normals", false)?;
     let shape = match node.plugin.as_str() {
+        "cylinder" => Shape::Cylinder(
+            Cylinder::new(
+                node.props.get_point("p0", Vec3::ZERO)?,
+                node.props.get_point("p1", Vec3::Z)?,
+                node.props.get_float("radius", 1.0)?,
+                &to_world,
+                flip,
+            )
+            .map_err(|e| err(&e))?,
+        ),
         "sphere" => {
             let center = node.props.get_point("center", Vec3::ZERO)?;
             let radius = node.props.get_float("radius", 1.0)?;
@@ -44,7 +145,7 @@ pub(crate) fn add_shape(
             let parts = super::procedural::snake(node, &to_world, flip, warnings)?;
             return add_parts(b, node, parts, warnings);
         }
-        "obj" | "ply" => {
+        "obj" | "ply" | "serialized" => {
             let Some(path) = node.props.get_path_opt("filename")? else {
                 return Err(SceneError::at(
                     &node.loc,
@@ -54,19 +155,47 @@ pub(crate) fn add_shape(
             let opts = MeshOptions {
                 flip_normals: flip,
                 face_normals: node.props.get_bool("face_normals", false)?,
-                flip_tex_coords: node.props.get_bool("flip_tex_coords", true)?,
+                // Mitsuba 3 flips OBJ's v, not PLY's; serialized files are used as stored.
+                flip_tex_coords: node.plugin != "serialized"
+                    && node
+                        .props
+                        .get_bool("flip_tex_coords", node.plugin == "obj")?,
             };
             let loc = node
                 .props
                 .location("filename")
                 .cloned()
                 .unwrap_or_else(|| node.loc.clone());
-            let mesh = if node.plugin == "obj" {
-                TriangleMesh::from_obj(&path, &to_world, &opts)
-            } else {
-                TriangleMesh::from_ply(&path, &to_world, &opts)
-            }
-            .map_err(|e| SceneError::at(&loc, format!("{}: {e}", node.describe())))?;
+            let mesh = match node.plugin.as_str() {
+                "obj" => TriangleMesh::from_obj(&path, &to_world, &opts),
+                "ply" => TriangleMesh::from_ply(&path, &to_world, &opts),
+                _ => {
+                    let index =
+                        super::values::checked_int(node, "shape_index", 0, 0, u32::MAX as i64)?;
+                    TriangleMesh::from_serialized(&path, index as u32, &to_world, &opts)
+                }
+            };
+            let mesh = match mesh {
+                // A mesh of only zero-area triangles shows nothing: skip it, as Mitsuba
+                // renders it (real scenes have such leftovers).
+                Err(LoadError::Mesh {
+                    source: MeshError::Empty { dropped },
+                    ..
+                }) => {
+                    warnings.push(Warning {
+                        loc: node.loc.clone(),
+                        message: format!(
+                            "{}: all {dropped} triangles of '{}' have zero area; the shape is skipped",
+                            node.describe(),
+                            path.display()
+                        ),
+                    });
+                    return Ok(());
+                }
+                other => {
+                    other.map_err(|e| SceneError::at(&loc, format!("{}: {e}", node.describe())))?
+                }
+            };
             if mesh.degenerate_dropped() > 0 {
                 warnings.push(Warning {
                     loc: node.loc.clone(),
@@ -127,9 +256,18 @@ fn add_parts<P: PartName>(
             .iter()
             .find(|(n, _)| Some(*n) == part.part_name())
             .map(|(_, n)| *n);
-        let material = match own.or(bsdf_node) {
-            Some(n) => material_for(b, n, warnings)?,
-            None => b.default_material(),
+        let material = match (own.or(bsdf_node), emitter_node) {
+            (Some(n), _) => material_for(b, n, warnings)?,
+            // Mitsuba 3 gives an emitter without a BSDF a black one (shape.cpp): lights do not
+            // reflect other lights.
+            (None, Some(_)) => *b.black_material.get_or_insert_with(|| {
+                b.materials
+                    .push(Material::diffuse(SpectrumTexture::Constant(
+                        Spectrum::Constant(0.0),
+                    )));
+                b.materials.len() as u32 - 1
+            }),
+            (None, None) => b.default_material(),
         };
         let index = b.shapes.len() as u32;
         let light = match emitter_node {

@@ -5,14 +5,19 @@
 //!
 //! - `$name` / `${name}` in any attribute is replaced by a command-line define or a
 //!   `<default name=".." value=".."/>` (defines win; an unknown name is an error);
-//! - `<include filename=".."/>` splices the included scene's children in place (paths relative to
-//!   the including file; cycles are errors);
-//! - `<ref id=".." name=".."/>` and `<alias id=".." as=".."/>` resolve to the same shared
-//!   `Arc<Node>` as the object declared (earlier) with that id;
+//! - `<include filename=".."/>` splices the included scene's children in place (looked up next
+//!   to the including file first; cycles are errors); `<path value=".."/>` adds a folder to
+//!   search; plugin file names are resolved as Mitsuba 3 resolves them (see [`resolver`]);
+//! - `<ref id=".." name=".."/>` resolves to the same shared `Arc<Node>` as the object declared
+//!   with that id, before or after the reference (cycles are errors); `<alias id=".." as=".."/>`
+//!   needs the id declared before it, as in Mitsuba;
+//! - the file may be UTF-8 or UTF-16 with a byte-order mark;
 //! - value tags become [`Value`]s: numbers are parsed strictly, colours decoded, spectra and
 //!   blackbodies parsed, `<transform>` blocks composed into one [`Transform`](crate::math::Transform);
 //! - a scene with `version` < 2.0 has its parameter names turned from camelCase into snake_case
-//!   (`intIOR` → `int_ior`, the original spelling is kept for messages) and `lookAt` into `lookat`.
+//!   (`intIOR` → `int_ior`, the original spelling is kept for messages) and `lookAt` into `lookat`;
+//!   as in Mitsuba 3, a 0.x `diffuse`'s `diffuse_reflectance` becomes `reflectance` and
+//!   `uoffset`/`voffset`/`uscale`/`vscale` become `to_uv`.
 //!
 //! The consumer reads parameters through [`Properties`]' typed getters, which remember what was
 //! read; afterwards [`check_unused`] lists every parameter that nobody asked for.
@@ -37,190 +42,56 @@
 //!
 //! Deliberate differences from Mitsuba 3: unknown tags and attributes are warnings (Mitsuba
 //! stops), except inside `<transform>`, where skipping an operation would silently move geometry;
-//! `<ref>` must follow the object it names; only `<scene>` roots are accepted; numbers beyond
-//! the f32 range are errors; elements may nest at most 100 deep (includes count as a level);
-//! the 0.6 `uoffset`/`uscale` → `to_uv` rewrite is not done (those names stay as written,
-//! snake_cased, and `check_unused` reports them if nobody reads them).
+//! only `<scene>` roots are accepted; numbers beyond
+//! the f32 range are errors; elements may nest at most 100 deep (includes count as a level).
 
+mod arena;
+mod builder;
 mod element;
-mod error;
 mod literal;
-mod properties;
 mod reader;
+pub mod resolver;
 mod transform;
 mod value_tags;
 
 #[cfg(test)]
 mod tests;
 #[cfg(test)]
+mod tests_files;
+#[cfg(test)]
 mod tests_values;
 
 use std::collections::HashSet;
-use std::fmt;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::Arc;
 
-pub use error::SceneError;
-pub use properties::{Properties, SpectrumValue, Value};
-
-/// A position in a scene file; displays as `file:line:col` (both 1-based).
-#[derive(Clone, Debug, PartialEq, Eq, Hash)]
-pub struct Location {
-    pub file: Arc<PathBuf>,
-    pub line: u32,
-    pub col: u32,
-}
-
-impl fmt::Display for Location {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}:{}:{}", self.file.display(), self.line, self.col)
-    }
-}
-
-/// The kind of a scene object (the XML element name).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Tag {
-    Scene,
-    Shape,
-    Bsdf,
-    Emitter,
-    Sensor,
-    Film,
-    Sampler,
-    Integrator,
-    Texture,
-    Rfilter,
-    Medium,
-    Phase,
-    Volume,
-    Spectrum,
-}
-
-impl Tag {
-    /// The element name, e.g. `"bsdf"`.
-    pub fn as_str(self) -> &'static str {
-        match self {
-            Tag::Scene => "scene",
-            Tag::Shape => "shape",
-            Tag::Bsdf => "bsdf",
-            Tag::Emitter => "emitter",
-            Tag::Sensor => "sensor",
-            Tag::Film => "film",
-            Tag::Sampler => "sampler",
-            Tag::Integrator => "integrator",
-            Tag::Texture => "texture",
-            Tag::Rfilter => "rfilter",
-            Tag::Medium => "medium",
-            Tag::Phase => "phase",
-            Tag::Volume => "volume",
-            Tag::Spectrum => "spectrum",
-        }
-    }
-
-    /// The object tag for an element name (`scene` included); `None` for anything else.
-    pub fn from_name(name: &str) -> Option<Tag> {
-        const ALL: [Tag; 14] = [
-            Tag::Scene,
-            Tag::Shape,
-            Tag::Bsdf,
-            Tag::Emitter,
-            Tag::Sensor,
-            Tag::Film,
-            Tag::Sampler,
-            Tag::Integrator,
-            Tag::Texture,
-            Tag::Rfilter,
-            Tag::Medium,
-            Tag::Phase,
-            Tag::Volume,
-            Tag::Spectrum,
-        ];
-        ALL.into_iter().find(|t| t.as_str() == name)
-    }
-}
-
-impl fmt::Display for Tag {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.as_str())
-    }
-}
-
-/// A scene object: `<bsdf type="diffuse" id="red">…</bsdf>`.
-#[derive(Debug)]
-pub struct Node {
-    pub tag: Tag,
-    /// The `type` attribute (`"scene"` for the root).
-    pub plugin: String,
-    pub id: Option<String>,
-    pub props: Properties,
-    /// Nested objects and resolved `<ref>`s, in document order.
-    pub children: Vec<Child>,
-    /// Where the element starts.
-    pub loc: Location,
-}
-
-/// A nested object of a [`Node`], or a resolved `<ref>`.
-#[derive(Clone, Debug)]
-pub struct Child {
-    /// The `name` attribute (`"bsdf"`, `"interior"`, …), snake_cased for 0.6 scenes.
-    pub name: Option<String>,
-    pub node: Arc<Node>,
-}
-
-impl Node {
-    /// The child given with `name="…"`, if any.
-    pub fn child(&self, name: &str) -> Option<&Arc<Node>> {
-        self.children
-            .iter()
-            .find(|c| c.name.as_deref() == Some(name))
-            .map(|c| &c.node)
-    }
-
-    /// All children with the given tag, named or not.
-    pub fn children_with_tag(&self, tag: Tag) -> impl Iterator<Item = &Arc<Node>> + '_ {
-        self.children
-            .iter()
-            .filter(move |c| c.node.tag == tag)
-            .map(|c| &c.node)
-    }
-
-    /// "bsdf 'diffuse'" or "bsdf 'diffuse' (id 'red')", for messages.
-    pub fn describe(&self) -> String {
-        describe(self.tag, &self.plugin, self.id.as_deref())
-    }
-}
-
-pub(crate) fn describe(tag: Tag, plugin: &str, id: Option<&str>) -> String {
-    match (tag, id) {
-        (Tag::Scene, _) => "the scene".to_string(),
-        (_, Some(id)) => format!("{tag} '{plugin}' (id '{id}')"),
-        (_, None) => format!("{tag} '{plugin}'"),
-    }
-}
-
-/// Something suspicious that does not stop loading.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct Warning {
-    pub loc: Location,
-    pub message: String,
-}
-
-impl fmt::Display for Warning {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}: warning: {}", self.loc, self.message)
-    }
-}
+pub(crate) use crate::plugin::describe;
+pub use crate::plugin::{
+    Child, Location, Node, Properties, SceneError, SpectrumValue, Tag, Value, Warning,
+};
 
 /// Reads a scene file. `defines` are `-D name=value` pairs; they override `<default>`s.
 pub fn load_file(
     path: &Path,
     defines: &[(String, String)],
 ) -> Result<(Node, Vec<Warning>), SceneError> {
-    let text = reader::read_text(path).map_err(|source| SceneError::Io {
+    let mut warnings = Vec::new();
+    let root = load_file_into(path, defines, &mut warnings)?;
+    Ok((root, warnings))
+}
+
+/// [`load_file`] that adds its warnings to `warnings` even when it fails, so that a caller
+/// can show the warnings that led up to an error.
+pub fn load_file_into(
+    path: &Path,
+    defines: &[(String, String)],
+    warnings: &mut Vec<Warning>,
+) -> Result<Node, SceneError> {
+    let text = resolver::read_text(path).map_err(|source| SceneError::Io {
         path: path.to_path_buf(),
         source,
     })?;
-    load_str(&text, path, defines)
+    load_str_into(&text, path, defines, warnings)
 }
 
 /// Reads a scene from a string; `file_name` is used in messages and to resolve relative paths.
@@ -229,12 +100,26 @@ pub fn load_str(
     file_name: &Path,
     defines: &[(String, String)],
 ) -> Result<(Node, Vec<Warning>), SceneError> {
-    reader::Reader::new(defines).read_root(xml, file_name)
+    let mut warnings = Vec::new();
+    let root = load_str_into(xml, file_name, defines, &mut warnings)?;
+    Ok((root, warnings))
 }
 
-/// Every parameter of the tree (shared nodes once) that was never queried, in document order.
+/// [`load_str`] that adds its warnings to `warnings` even when it fails.
+pub fn load_str_into(
+    xml: &str,
+    file_name: &Path,
+    defines: &[(String, String)],
+    warnings: &mut Vec<Warning>,
+) -> Result<Node, SceneError> {
+    reader::Reader::new(defines).read_root(xml, file_name, warnings)
+}
+
+/// Every parameter of the tree (shared nodes once) that was never queried, in document order,
+/// each naming the plugin's declared parameters nearest to it.
 pub fn check_unused(root: &Node) -> Vec<Warning> {
     fn visit(node: &Node, seen: &mut HashSet<*const Node>, out: &mut Vec<Warning>) {
+        let info = crate::plugin::registry::info(node.tag, &node.plugin);
         for (name, loc) in node.props.unqueried() {
             let written = node.props.original_name(&name).unwrap_or(&name);
             let spelling = if written != name {
@@ -242,10 +127,17 @@ pub fn check_unused(root: &Node) -> Vec<Warning> {
             } else {
                 String::new()
             };
+            // A declared parameter that this configuration does not read gets no hint.
+            let hint = match info {
+                Some(i) if i.param(&name).is_none() => {
+                    crate::plugin::did_you_mean(&name, i.all_params().flat_map(|p| p.names()))
+                }
+                _ => String::new(),
+            };
             out.push(Warning {
                 loc,
                 message: format!(
-                    "parameter '{name}'{spelling} of {} was never used",
+                    "parameter '{name}'{spelling} of {} was never used{hint}",
                     node.describe()
                 ),
             });

@@ -1,118 +1,34 @@
-//! The reader proper: walks the XML, substitutes parameters, follows includes, resolves
-//! references and builds [`Node`]s.
+//! The reader proper: walks the XML, substitutes parameters, follows includes and `<path>`s,
+//! collects objects and references (linked into [`Node`]s at the end, see `arena.rs`).
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
 use roxmltree::{Document, ParsingOptions};
 
+use super::arena::{Arena, Target};
+pub(super) use super::builder::Builder;
 use super::element::{Attr, Elem, Source};
 use super::literal;
-use super::properties::{Properties, Value};
-use super::{describe, Child, Location, Node, SceneError, Tag, Warning};
+use super::resolver::read_text;
+use super::{Location, Node, SceneError, Tag, Warning};
+use crate::plugin::FileResolver;
 
 /// Deepest nesting of elements and includes accepted; deeper input is an error, not a crash.
 const MAX_DEPTH: usize = 100;
 
-/// Reads a file as UTF-8 text; a directory is an error (on some systems reading one succeeds).
-pub fn read_text(path: &Path) -> std::io::Result<String> {
-    if path.is_dir() {
-        return Err(std::io::Error::other("it is a directory, not a file"));
-    }
-    std::fs::read_to_string(path)
-}
-
-/// An object being built.
-pub struct Builder {
-    tag: Tag,
-    plugin: String,
-    id: Option<String>,
-    props: Properties,
-    children: Vec<Child>,
-    child_names: Vec<(String, Location)>,
-    loc: Location,
-}
-
-impl Builder {
-    fn new(tag: Tag, plugin: String, id: Option<String>, loc: Location) -> Builder {
-        Builder {
-            props: Properties::new(describe(tag, &plugin, id.as_deref())),
-            tag,
-            plugin,
-            id,
-            children: Vec::new(),
-            child_names: Vec::new(),
-            loc,
-        }
-    }
-
-    fn taken(&self, name: &str) -> Option<&Location> {
-        self.props.location(name).or_else(|| {
-            self.child_names
-                .iter()
-                .find(|(n, _)| n == name)
-                .map(|(_, l)| l)
-        })
-    }
-
-    fn twice(&self, name: &str, first: &Location, loc: &Location) -> SceneError {
-        SceneError::at(
-            loc,
-            format!(
-                "parameter '{name}' of {} is given twice (first at {first})",
-                self.props.owner()
-            ),
-        )
-    }
-
-    pub(super) fn add_prop(
-        &mut self,
-        name: String,
-        orig: String,
-        v: Value,
-        loc: Location,
-    ) -> Result<(), SceneError> {
-        if let Some(first) = self.child_names.iter().find(|(n, _)| *n == name) {
-            return Err(self.twice(&name, &first.1, &loc));
-        }
-        self.props.insert(name, orig, v, loc)
-    }
-
-    fn add_child(
-        &mut self,
-        name: Option<String>,
-        node: Arc<Node>,
-        loc: Location,
-    ) -> Result<(), SceneError> {
-        if let Some(n) = &name {
-            if let Some(first) = self.taken(n) {
-                return Err(self.twice(n, first, &loc));
-            }
-            self.child_names.push((n.clone(), loc));
-        }
-        self.children.push(Child { name, node });
-        Ok(())
-    }
-
-    fn finish(self) -> Node {
-        Node {
-            tag: self.tag,
-            plugin: self.plugin,
-            id: self.id,
-            props: self.props,
-            children: self.children,
-            loc: self.loc,
-        }
-    }
-}
-
 /// Reader state shared by a scene file and everything it includes.
 pub struct Reader {
     pub(super) params: HashMap<String, String>,
-    ids: HashMap<String, (Arc<Node>, Location)>,
+    objects: Arena,
     /// Files being read, outermost first, for include-cycle detection.
     stack: Vec<PathBuf>,
+    /// The folders looked in while reading (includes and `<spectrum filename>`): the current
+    /// file's `<path>`s and its includers' folders, then the scene's folder.
+    pub(super) search: FileResolver,
+    /// The root file's folders once it is read, for plugin file names (see `resolver.rs`).
+    files: Arc<OnceLock<FileResolver>>,
     warnings: Vec<Warning>,
 }
 
@@ -154,17 +70,29 @@ impl Reader {
     pub fn new(defines: &[(String, String)]) -> Reader {
         Reader {
             params: defines.iter().cloned().collect(),
-            ids: HashMap::new(),
+            objects: Arena::default(),
             stack: Vec::new(),
+            search: FileResolver::default(),
+            files: Arc::default(),
             warnings: Vec::new(),
         }
     }
 
+    /// Reads the scene in `text` (from `file`); warnings go to `warnings` whether or not the
+    /// scene could be read, so that those leading up to an error can be shown with it.
     pub fn read_root(
         mut self,
         text: &str,
         file: &Path,
-    ) -> Result<(Node, Vec<Warning>), SceneError> {
+        warnings: &mut Vec<Warning>,
+    ) -> Result<Node, SceneError> {
+        let r = self.read_root_inner(text, file);
+        warnings.append(&mut self.warnings);
+        r
+    }
+
+    fn read_root_inner(&mut self, text: &str, file: &Path) -> Result<Node, SceneError> {
+        self.search = FileResolver::for_scene(file);
         let file = Arc::new(file.to_path_buf());
         let doc = parse_doc(text, &file)?;
         let mut src = Source::new(&doc, file.clone());
@@ -172,9 +100,17 @@ impl Reader {
         let loc = self.scene_root(root, &mut src)?;
         self.stack
             .push(std::fs::canonicalize(file.as_ref()).unwrap_or_else(|_| (*file).clone()));
-        let mut b = Builder::new(Tag::Scene, "scene".into(), None, loc);
+        let mut b = Builder::new(
+            Tag::Scene,
+            "scene".into(),
+            None,
+            loc,
+            &self.files,
+            src.upgrade,
+        );
         self.children(root, &src, &mut b, 0)?;
-        Ok((b.finish(), self.warnings))
+        let _ = self.files.set(self.search.clone());
+        std::mem::take(&mut self.objects).link(b.finish()?)
     }
 
     fn warn(&mut self, loc: &Location, message: String) {
@@ -260,6 +196,7 @@ impl Reader {
         match tag {
             "default" => self.default(node, src),
             "include" => self.include(node, src, b, depth),
+            "path" => self.path(node, src, b),
             "ref" => self.reference(node, src, b),
             "alias" => self.alias(node, src),
             "float" | "integer" | "boolean" | "string" | "point" | "vector" | "rgb" | "srgb"
@@ -295,19 +232,20 @@ impl Reader {
         Some((name, orig))
     }
 
-    fn register(&mut self, id: &str, node: Arc<Node>, e: &Elem) -> Result<(), SceneError> {
-        if let Some((_, first)) = self.ids.get(id) {
+    fn register(&mut self, id: &str, index: usize, e: &Elem) -> Result<(), SceneError> {
+        if let Some((_, first)) = self.objects.lookup(id) {
             return Err(e.err(format!(
                 "found duplicate id '{id}'; it was first declared at {first}"
             )));
         }
-        self.ids.insert(id.to_string(), (node, e.loc.clone()));
+        self.objects.register(id.to_string(), index, e.loc.clone());
         Ok(())
     }
 
-    fn lookup(&self, e: &Elem, a: &Attr) -> Result<Arc<Node>, SceneError> {
-        match self.ids.get(&a.value) {
-            Some((n, _)) => Ok(n.clone()),
+    /// An id declared earlier (aliases need one, as in Mitsuba).
+    fn lookup(&self, e: &Elem, a: &Attr) -> Result<usize, SceneError> {
+        match self.objects.lookup(&a.value) {
+            Some((i, _)) => Ok(*i),
             None => Err(e.attr_err(
                 a,
                 format!(
@@ -333,13 +271,24 @@ impl Reader {
         if id.as_deref() == Some("") || plugin.is_empty() {
             return Err(e.err("found an empty 'type' or 'id'; expected a non-empty one"));
         }
-        let mut cb = Builder::new(tag, plugin, id.clone(), e.loc.clone());
+        let mut cb = Builder::new(
+            tag,
+            plugin,
+            id.clone(),
+            e.loc.clone(),
+            &self.files,
+            src.upgrade,
+        );
         self.children(node, src, &mut cb, depth + 1)?;
-        let child = Arc::new(cb.finish());
+        let index = self.objects.push(cb.finish()?);
         if let Some(id) = &id {
-            self.register(id, child.clone(), &e)?;
+            self.register(id, index, &e)?;
         }
-        b.add_child(Self::name_of(&e, src).map(|n| n.0), child, e.loc)
+        b.add_child(
+            Self::name_of(&e, src).map(|n| n.0),
+            Target::Obj(index),
+            e.loc,
+        )
     }
 
     fn reference(
@@ -351,7 +300,12 @@ impl Reader {
         let e = Elem::new(node, src, &self.params)?;
         self.check_attrs(&e, &["id", "name"]);
         self.no_children(node, src, &e);
-        let target = self.lookup(&e, e.require("id")?)?;
+        let id = &e.require("id")?.value;
+        // An id declared later is linked once the whole scene is read.
+        let target = match self.objects.lookup(id) {
+            Some((i, _)) => Target::Obj(*i),
+            None => Target::Id(id.clone()),
+        };
         b.add_child(Self::name_of(&e, src).map(|n| n.0), target, e.loc.clone())
     }
 
@@ -396,7 +350,24 @@ impl Reader {
     ) -> Result<(), SceneError> {
         let e = Elem::new(node, src, &self.params)?;
         self.check_attrs(&e, &["filename"]);
-        let path = src.dir.join(&e.require("filename")?.value);
+        // Looked up with the including file's folder first; what the included file adds to
+        // the search list ends with it.
+        let saved = self.search.clone();
+        self.search.prepend(src.dir.clone());
+        let r = self.include_inner(src, &e, b, depth);
+        self.search = saved;
+        r
+    }
+
+    fn include_inner(
+        &mut self,
+        src: &Source,
+        e: &Elem,
+        b: &mut Builder,
+        depth: usize,
+    ) -> Result<(), SceneError> {
+        let name = Path::new(&e.require("filename")?.value);
+        let path = self.search.find(name).unwrap_or_else(|| src.dir.join(name));
         let text = read_text(&path).map_err(|io| {
             e.err(format!(
                 "cannot read included file '{}': {io}",
@@ -421,6 +392,39 @@ impl Reader {
         let r = self.children(root, &inner, b, depth + 1);
         self.stack.pop();
         r
+    }
+
+    /// `<path value="dir"/>`: a folder searched first from now on (see `resolver.rs`).
+    fn path(&mut self, node: roxmltree::Node, src: &Source, b: &Builder) -> Result<(), SceneError> {
+        let e = Elem::new(node, src, &self.params)?;
+        self.check_attrs(&e, &["value"]);
+        self.no_children(node, src, &e);
+        if b.tag != Tag::Scene {
+            return Err(e.err(format!(
+                "found <path> inside {}; expected it directly inside <scene>",
+                b.props.owner()
+            )));
+        }
+        let a = e.require("value")?;
+        let written = Path::new(&a.value);
+        let here = src.dir.join(written);
+        let dir = if written.is_absolute() || here.is_dir() {
+            here
+        } else {
+            self.search.find(written).unwrap_or(here)
+        };
+        if !dir.is_dir() {
+            return Err(e.attr_err(
+                a,
+                format!(
+                    "'{}', which is not a folder (looked for {}); expected an existing folder",
+                    a.value,
+                    dir.display()
+                ),
+            ));
+        }
+        self.search.prepend(dir);
+        Ok(())
     }
 
     pub(super) fn no_children(&mut self, node: roxmltree::Node, src: &Source, e: &Elem) {

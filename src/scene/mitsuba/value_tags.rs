@@ -2,10 +2,11 @@
 
 use super::element::{Attr, Elem, Source};
 use super::literal::{self, parse_bool, parse_float, parse_int, parse_rgb, srgb_to_linear};
-use super::properties::{SpectrumValue, Value};
 use super::reader::{Builder, Reader};
+use super::resolver::FileResolver;
 use super::{transform, SceneError};
 use crate::math::{Transform, Vec3};
+use crate::plugin::{SpectrumValue, Value};
 
 impl Reader {
     /// A value tag inside `b`: parsed, checked and added as a parameter.
@@ -63,7 +64,7 @@ impl Reader {
                 (Value::Rgb(c), &["name", "value", "intent"])
             }
             "spectrum" => (
-                Value::Spectrum(spectrum(&e, src)?),
+                Value::Spectrum(spectrum(&e, src, &self.search)?),
                 &["name", "value", "filename", "intent"],
             ),
             "blackbody" => {
@@ -125,12 +126,14 @@ fn point(e: &Elem) -> Result<Vec3, SceneError> {
     }
 }
 
-/// `value=` (constant or pairs) or `filename=` (must exist, relative to the declaring file).
-fn spectrum(e: &Elem, src: &Source) -> Result<SpectrumValue, SceneError> {
+/// `value=` (constant or pairs) or `filename=` (must exist; looked up while reading, as
+/// Mitsuba does, then next to the declaring file).
+fn spectrum(e: &Elem, src: &Source, search: &FileResolver) -> Result<SpectrumValue, SceneError> {
     match (e.get("value"), e.get("filename")) {
         (Some(a), None) => literal::parse_spectrum(&a.value).map_err(|m| e.attr_err(a, m)),
         (None, Some(f)) => {
-            let path = src.dir.join(&f.value);
+            let name = std::path::Path::new(&f.value);
+            let path = search.find(name).unwrap_or_else(|| src.dir.join(name));
             if path.is_file() {
                 Ok(SpectrumValue::File(path))
             } else {
