@@ -57,7 +57,7 @@ def with_aovs(xml):
     """The flagship with its integrator wrapped in an `aov` integrator."""
     m = re.search(r"<integrator type=\"path\">.*?</integrator>", xml, re.S)
     if not m:
-        raise SystemExit("scenes/xenopeltis.xml: no <integrator type=\"path\"> block found")
+        raise SystemExit("the scene has no <integrator type=\"path\"> block")
     inner = m.group(0).replace('<integrator type="path">', '<integrator type="path" name="image">')
     wrapped = f'<integrator type="aov">\n<string name="aovs" value="{AOVS}"/>\n{inner}\n</integrator>'
     return xml[: m.start()] + wrapped + xml[m.end() :]
@@ -149,9 +149,11 @@ def main():
     ap.add_argument("--spp", type=int, default=128)
     ap.add_argument("--ophis", default=os.path.join(ROOT, "target", "release", "ophis"))
     ap.add_argument("--keep", help="folder to keep the renders in (EXR with AOVs, PNG)")
+    ap.add_argument("--scene", default=os.path.join(ROOT, "scenes", "xenopeltis.xml"),
+                    help="a variant of the flagship to measure instead (same parts and -D names)")
     args = ap.parse_args()
     w, h = args.res.split("x")
-    xml = with_aovs(open(os.path.join(ROOT, "scenes", "xenopeltis.xml"), encoding="utf-8").read())
+    xml = with_aovs(open(args.scene, encoding="utf-8").read())
     out_dir = args.keep or tempfile.mkdtemp(prefix="two-lights-")
     os.makedirs(out_dir, exist_ok=True)
     scene = os.path.join(out_dir, "xenopeltis-aov.xml")
