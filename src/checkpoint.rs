@@ -1,7 +1,8 @@
 //! Render state files: the accumulated film of an unfinished render plus what is needed to
 //! continue it (`ophis render --checkpoint` writes them, `ophis render --resume` reads them).
 //!
-//! Format (all integers little-endian), version 1:
+//! Format (all integers little-endian), version 1 (version 2 when the film has AOV channels,
+//! with the two fields marked ² added):
 //!
 //! | field        | type                     | meaning                                        |
 //! |--------------|--------------------------|------------------------------------------------|
@@ -14,7 +15,9 @@
 //! | scene_path   | string (u32 length, UTF-8)| the scene file, absolute                      |
 //! | strategy     | string                   | estimator name (`mis`, `light`, `bsdf`)        |
 //! | defines      | u32 count, string pairs  | `-D name=value` overrides                      |
+//! | aov names ²  | u32 count c, strings     | the `aov` integrator's channel names           |
 //! | pixels       | width·height·4 f64       | X, Y, Z sums and sample count per pixel        |
+//! | aov sums ²   | width·height·c f64       | AOV channel sums per pixel, row-major          |
 //! | checksum     | u64                      | FNV-1a of every byte before it                 |
 //!
 //! The film is stored as f64 sums, exactly as held in memory, so a resumed render continues
@@ -28,6 +31,10 @@ use std::path::{Path, PathBuf};
 
 const MAGIC: &[u8; 8] = b"OPHISST\0";
 const VERSION: u32 = 1;
+/// The version of files whose film carries AOV channels.
+const VERSION_AOV: u32 = 2;
+/// Most AOV channels accepted when reading.
+const MAX_AOV_CHANNELS: u32 = 1024;
 /// Longest string field accepted when reading (paths, names, define values).
 const MAX_STRING: u32 = 1 << 16;
 /// Most `-D` pairs accepted when reading.
@@ -117,7 +124,12 @@ impl StateInfo {
             h: 0xcbf2_9ce4_8422_2325,
         };
         o.put(MAGIC)?;
-        o.put(&VERSION.to_le_bytes())?;
+        let version = if film.aov_names.is_empty() {
+            VERSION
+        } else {
+            VERSION_AOV
+        };
+        o.put(&version.to_le_bytes())?;
         o.put(&self.scene_hash.to_le_bytes())?;
         o.put(&self.seed.to_le_bytes())?;
         o.put(&self.spp.to_le_bytes())?;
@@ -130,12 +142,21 @@ impl StateInfo {
             o.put_str(k)?;
             o.put_str(v)?;
         }
+        if version == VERSION_AOV {
+            o.put(&(film.aov_names.len() as u32).to_le_bytes())?;
+            for name in &film.aov_names {
+                o.put_str(name)?;
+            }
+        }
         let mut buf = [0u8; 32];
         for p in &film.pixels {
             for (c, v) in buf.chunks_exact_mut(8).zip(p) {
                 c.copy_from_slice(&v.to_le_bytes());
             }
             o.put(&buf)?;
+        }
+        for v in &film.aov {
+            o.put(&v.to_le_bytes())?;
         }
         let sum = o.h;
         o.w.write_all(&sum.to_le_bytes())?;
@@ -229,8 +250,8 @@ impl RenderState {
         let version = r
             .u32()
             .ok_or_else(|| bad("end of file".into(), "a version"))?;
-        if version != VERSION {
-            return Err(bad(format!("version {version}"), "version 1"));
+        if version != VERSION && version != VERSION_AOV {
+            return Err(bad(format!("version {version}"), "version 1 or 2"));
         }
         if hash_bytes(body) != stored {
             return Err(bad(
@@ -256,16 +277,32 @@ impl RenderState {
             let v = r.string().ok_or_else(trunc)?;
             defines.push((k, v));
         }
+        let mut aov_names = Vec::new();
+        if version == VERSION_AOV {
+            let c = r.u32().ok_or_else(trunc)?;
+            if c == 0 || c > MAX_AOV_CHANNELS {
+                return Err(bad(format!("{c} AOV channels"), "1 to 1024"));
+            }
+            for _ in 0..c {
+                aov_names.push(r.string().ok_or_else(trunc)?);
+            }
+        }
         let n = width as u64 * height as u64;
         let rest = (r.b.len() - r.at) as u64;
-        if width == 0 || height == 0 || rest != n * 32 {
+        let per_pixel = 32 + 8 * aov_names.len() as u64;
+        if width == 0 || height == 0 || rest != n * per_pixel {
             return Err(bad(
                 format!("{rest} bytes of pixels for {width} × {height}"),
-                &format!("{} bytes", n * 32),
+                &format!("{} bytes", n * per_pixel),
             ));
         }
+        let (px_bytes, aov_bytes) = r.b[r.at..].split_at((n * 32) as usize);
+        let aov = aov_bytes
+            .chunks_exact(8)
+            .map(|v| f64::from_le_bytes(v.try_into().expect("8 bytes")))
+            .collect();
         let mut pixels = Vec::with_capacity(n as usize);
-        for chunk in r.b[r.at..].chunks_exact(32) {
+        for chunk in px_bytes.chunks_exact(32) {
             let mut p = [0.0f64; 4];
             for (c, v) in p.iter_mut().zip(chunk.chunks_exact(8)) {
                 *c = f64::from_le_bytes(v.try_into().expect("8 bytes"));
@@ -285,6 +322,8 @@ impl RenderState {
                 width,
                 height,
                 pixels,
+                aov_names,
+                aov,
             },
         })
     }
@@ -344,6 +383,22 @@ mod tests {
         let back = RenderState::from_bytes(&s.to_bytes(), Path::new("s")).unwrap();
         assert_eq!(back, s);
         assert_eq!(back.spp_done(), 4);
+    }
+
+    #[test]
+    fn aov_channels_round_trip_in_version_2() {
+        let mut s = sample();
+        s.film.aov_names = vec!["dd.T".into(), "nn.X".into()];
+        s.film.aov = (0..12).map(|i| i as f64 * 0.25 - 1.0).collect();
+        let bytes = s.to_bytes();
+        assert_eq!(u32::from_le_bytes(bytes[8..12].try_into().unwrap()), 2);
+        let back = RenderState::from_bytes(&bytes, Path::new("s")).unwrap();
+        assert_eq!(back, s);
+        // Files without AOVs keep version 1.
+        assert_eq!(sample().to_bytes()[8], 1);
+        for n in [bytes.len() - 9, bytes.len() - 100] {
+            assert!(RenderState::from_bytes(&bytes[..n], Path::new("s")).is_err());
+        }
     }
 
     #[test]

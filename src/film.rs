@@ -126,6 +126,11 @@ pub struct Film {
     pub height: u32,
     /// X, Y, Z, weight per pixel, row-major, top row first.
     pub pixels: Vec<[f64; 4]>,
+    /// Names of the AOV channels (the `aov` integrator's), empty without one.
+    pub aov_names: Vec<String>,
+    /// Per-pixel sums of the AOV channels, `aov_names.len()` values per pixel, row-major; the
+    /// sample count is the pixel's weight in `pixels`.
+    pub aov: Vec<f64>,
 }
 
 impl Film {
@@ -135,7 +140,41 @@ impl Film {
             width,
             height,
             pixels: vec![[0.0; 4]; width as usize * height as usize],
+            aov_names: Vec::new(),
+            aov: Vec::new(),
         }
+    }
+
+    /// An empty film with AOV channels.
+    pub fn with_aovs(width: u32, height: u32, names: Vec<String>) -> Film {
+        let mut f = Film::new(width, height);
+        f.aov = vec![0.0; names.len() * f.pixels.len()];
+        f.aov_names = names;
+        f
+    }
+
+    /// The AOV channels averaged per pixel (0 where a pixel has no samples), one image per name.
+    pub fn aov_images(&self) -> Vec<(String, Vec<f32>)> {
+        let n = self.aov_names.len();
+        self.aov_names
+            .iter()
+            .enumerate()
+            .map(|(c, name)| {
+                let data = self
+                    .pixels
+                    .iter()
+                    .enumerate()
+                    .map(|(i, p)| {
+                        if p[3] > 0.0 {
+                            (self.aov[i * n + c] / p[3]) as f32
+                        } else {
+                            0.0
+                        }
+                    })
+                    .collect();
+                (name.clone(), data)
+            })
+            .collect()
     }
 
     /// Adds one sample (XYZ already weighted) to pixel (x, y).
@@ -154,6 +193,9 @@ impl Film {
             for c in 0..4 {
                 a[c] += b[c];
             }
+        }
+        for (a, b) in self.aov.iter_mut().zip(&other.aov) {
+            *a += b;
         }
     }
 

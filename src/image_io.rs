@@ -337,15 +337,12 @@ const EXR_RESERVED: &[&str] = &[
     "chunkCount",
 ];
 
-/// Writes a float32 RGB OpenEXR file with `metadata` as string attributes in its header.
-pub fn write_exr(
-    path: impl AsRef<Path>,
-    image: &RgbImage,
+/// The header attributes for `metadata` (string attributes; reserved names refused).
+fn exr_attributes(
+    path: &Path,
     metadata: &[(String, String)],
-) -> Result<(), ImageError> {
+) -> Result<exr::meta::header::LayerAttributes, ImageError> {
     use exr::prelude::*;
-    let path = path.as_ref();
-    check_writable(path, image)?;
     let mut attrs = LayerAttributes::default();
     for (k, v) in metadata {
         let bad = |what: &str| ImageError::Write {
@@ -368,6 +365,43 @@ pub fn write_exr(
             }
         }
     }
+    Ok(attrs)
+}
+
+/// Puts the header attributes of an encoded EXR in a fixed order (the same image and metadata
+/// then give the same bytes) and writes the file atomically.
+fn finish_exr(path: &Path, encoded: Result<Vec<u8>, exr::error::Error>) -> Result<(), ImageError> {
+    let mut bytes = encoded.map_err(|e| ImageError::Write {
+        path: path.to_path_buf(),
+        what: e.to_string(),
+    })?;
+    exr_order::sort_header_attributes(&mut bytes);
+    write_atomically(path, |tmp| {
+        std::fs::write(tmp, &bytes).map_err(|e| e.to_string())
+    })
+}
+
+/// Encodes an image into memory.
+macro_rules! encode_exr {
+    ($image:expr) => {{
+        let mut bytes = Vec::new();
+        $image
+            .write()
+            .to_buffered(Cursor::new(&mut bytes))
+            .map(|()| bytes)
+    }};
+}
+
+/// Writes a float32 RGB OpenEXR file with `metadata` as string attributes in its header.
+pub fn write_exr(
+    path: impl AsRef<Path>,
+    image: &RgbImage,
+    metadata: &[(String, String)],
+) -> Result<(), ImageError> {
+    use exr::prelude::*;
+    let path = path.as_ref();
+    check_writable(path, image)?;
+    let attrs = exr_attributes(path, metadata)?;
     let w = image.width;
     let pixels = SpecificChannels::rgb(|p: Vec2<usize>| {
         let [r, g, b] = image.data[p.1 * w + p.0];
@@ -379,21 +413,73 @@ pub fn write_exr(
         Encoding::FAST_LOSSLESS,
         pixels,
     );
-    let exr_image = Image::from_layer(layer);
-    // Written to memory first so that the header's attributes can be put in a fixed order:
-    // the same image and metadata then give the same bytes.
-    let mut bytes = Vec::new();
-    exr_image
-        .write()
-        .to_buffered(Cursor::new(&mut bytes))
-        .map_err(|e| ImageError::Write {
+    finish_exr(path, encode_exr!(Image::from_layer(layer)))
+}
+
+/// Writes a float32 OpenEXR file with channels R, G, B from `image` and the named `extra`
+/// channels (e.g. AOVs such as `nn.X`), each a row-major image of the same size.
+pub fn write_exr_channels(
+    path: impl AsRef<Path>,
+    image: &RgbImage,
+    extra: &[(String, Vec<f32>)],
+    metadata: &[(String, String)],
+) -> Result<(), ImageError> {
+    use exr::prelude::*;
+    let path = path.as_ref();
+    check_writable(path, image)?;
+    let n = image.width * image.height;
+    let bad = |what: String| ImageError::Write {
+        path: path.to_path_buf(),
+        what,
+    };
+    let mut list: exr::prelude::SmallVec<[AnyChannel<FlatSamples>; 4]> =
+        exr::prelude::SmallVec::new();
+    for (c, name) in ["R", "G", "B"].iter().enumerate() {
+        let data = image.data.iter().map(|p| p[c]).collect();
+        list.push(AnyChannel::new(*name, FlatSamples::F32(data)));
+    }
+    for (name, data) in extra {
+        if data.len() != n {
+            return Err(bad(format!(
+                "channel {name} has {} values for {n} pixels",
+                data.len()
+            )));
+        }
+        if ["R", "G", "B"].contains(&name.as_str())
+            || list.iter().any(|c| c.name.to_string() == *name)
+        {
+            return Err(bad(format!("channel name {name:?} is used twice")));
+        }
+        let text =
+            Text::new_or_none(name).ok_or_else(|| bad(format!("{name:?} is not Latin-1")))?;
+        list.push(AnyChannel::new(text, FlatSamples::F32(data.clone())));
+    }
+    let layer = Layer::new(
+        (image.width, image.height),
+        exr_attributes(path, metadata)?,
+        Encoding::FAST_LOSSLESS,
+        AnyChannels::sort(list),
+    );
+    finish_exr(path, encode_exr!(Image::from_layer(layer)))
+}
+
+/// The names of the channels in an OpenEXR file's first layer, sorted as stored.
+pub fn read_exr_channel_names(path: impl AsRef<Path>) -> Result<Vec<String>, ImageError> {
+    let path = path.as_ref();
+    let bytes = read_bytes(path)?;
+    if !bytes.starts_with(&EXR_MAGIC) {
+        return Err(ImageError::NotTheFormat {
             path: path.to_path_buf(),
-            what: e.to_string(),
-        })?;
-    exr_order::sort_header_attributes(&mut bytes);
-    write_atomically(path, |tmp| {
-        std::fs::write(tmp, &bytes).map_err(|e| e.to_string())
-    })
+            expected: "OpenEXR",
+        });
+    }
+    let meta = exr::meta::MetaData::read_from_buffered(Cursor::new(&bytes), false)
+        .map_err(|e| exr_error(path, e))?;
+    Ok(meta
+        .headers
+        .first()
+        .map(|h| h.channels.list.iter().map(|c| c.name.to_string()).collect())
+        .unwrap_or_default())
 }
 
 /// The string attributes in an OpenEXR file's first header, sorted by name.

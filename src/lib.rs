@@ -9,7 +9,7 @@
 pub mod accel;
 /// Scattering functions (BSDFs) and materials.
 pub mod bsdf;
-/// Perspective camera.
+/// Cameras: perspective, thin lens, orthographic.
 pub mod camera;
 /// Render state files for checkpoints and resuming.
 pub mod checkpoint;

@@ -6,7 +6,7 @@
 //! sample count, so the film's sums are bit-identical whatever the number of threads.
 
 use crate::film::{spectrum_to_xyz, Film};
-use crate::integrator::{radiance, PathStrategy};
+use crate::integrator::{aov, radiance, PathStrategy};
 use crate::math::Vec2;
 use crate::sampler::Sampler;
 use crate::scene::Scene;
@@ -160,6 +160,7 @@ pub fn render_with(
         film.width == scene.width && film.height == scene.height,
         "film and scene resolutions differ"
     );
+    prepare_aovs(scene, film);
     let t0 = Instant::now();
     let (w, h) = (scene.width, scene.height);
     let tiles = tiles(w, h, ctl.tile_order);
@@ -201,12 +202,13 @@ pub fn render_with(
                     return;
                 }
             }
-            let acc = render_tile(scene, x0, y0, from, s1, opts.strategy);
+            let (acc, aov) = render_tile(scene, x0, y0, from, s1, opts.strategy);
             let n = acc.len() as u64 * (s1 - from) as u64;
             let d = done.fetch_add(n, Ordering::Relaxed) + n;
             ctl.progress.update(d, total);
             let mut g = shared.lock().unwrap_or_else(|e| e.into_inner());
             add_tile(g.0, x0, y0, &acc);
+            add_aov_tile(g.0, x0, y0, &aov);
             if let Some((every, write)) = ctl.checkpoint {
                 if g.1.elapsed() >= every {
                     write(g.0);
@@ -237,7 +239,8 @@ fn tile_extent(scene: &Scene, x0: u32, y0: u32) -> (u32, u32) {
     ((x0 + TILE).min(scene.width), (y0 + TILE).min(scene.height))
 }
 
-/// Renders samples [s0, s1) of every pixel in a tile; returns per-pixel sums (X, Y, Z, count).
+/// Renders samples [s0, s1) of every pixel in a tile; returns per-pixel sums (X, Y, Z, count)
+/// and, with the `aov` integrator, the AOV channel sums.
 fn render_tile(
     scene: &Scene,
     x0: u32,
@@ -245,8 +248,12 @@ fn render_tile(
     s0: u32,
     s1: u32,
     strategy: PathStrategy,
-) -> Vec<[f64; 4]> {
+) -> (Vec<[f64; 4]>, Vec<f64>) {
+    let aov = scene.integrator.aov.as_ref();
+    let n_aov = aov.map_or(0, |a| a.channels());
+    let with_image = aov.is_none_or(|a| a.has_image);
     let (x1, y1) = tile_extent(scene, x0, y0);
+    let mut aov_sums = vec![0.0f64; n_aov * ((x1 - x0) * (y1 - y0)) as usize];
     let mut sampler = Sampler::new(scene.sampler.kind, scene.sampler.seed);
     let inv = Vec2::new(1.0 / scene.width as f32, 1.0 / scene.height as f32);
     let mut out = Vec::with_capacity(((x1 - x0) * (y1 - y0)) as usize);
@@ -258,8 +265,24 @@ fn render_tile(
                 let wl = SampledWavelengths::sample_visible(sampler.get_1d());
                 let offset = scene.filter.sample(sampler.get_2d());
                 let film_p = (Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset) * inv;
-                let ray = scene.camera.generate_ray(film_p);
-                let l = radiance(scene, ray, &wl, &mut sampler, strategy);
+                // The lens sample is drawn only by cameras with a lens, so that pinhole renders
+                // keep their sample sequences.
+                let lens = if scene.camera.needs_aperture_sample() {
+                    sampler.get_2d()
+                } else {
+                    Vec2::splat(0.5)
+                };
+                let ray = scene.camera.generate_ray(film_p, lens);
+                if let Some(a) = aov {
+                    let px = out.len() * n_aov;
+                    let key = aov::sample_key(scene.sampler.seed, x, y, s);
+                    a.accumulate(scene, &ray, key, &mut aov_sums[px..px + n_aov]);
+                }
+                let l = if with_image {
+                    radiance(scene, ray, &wl, &mut sampler, strategy)
+                } else {
+                    crate::spectrum::SampledSpectrum::ZERO
+                };
                 let xyz = spectrum_to_xyz(&l, &wl);
                 acc[0] += xyz[0] as f64;
                 acc[1] += xyz[1] as f64;
@@ -269,7 +292,41 @@ fn render_tile(
             out.push(acc);
         }
     }
-    out
+    (out, aov_sums)
+}
+
+/// Gives an empty film the scene's AOV channels; a film that already holds samples must have
+/// them (callers that resume check this first).
+fn prepare_aovs(scene: &Scene, film: &mut Film) {
+    let names = scene
+        .integrator
+        .aov
+        .as_ref()
+        .map_or(Vec::new(), |a| a.channel_names());
+    if film.aov_names != names {
+        assert!(
+            film.total_weight() == 0.0,
+            "the film's AOV channels differ from the scene's"
+        );
+        *film = Film::with_aovs(film.width, film.height, names);
+    }
+}
+
+/// Adds a tile's AOV sums (see [`render_tile`]).
+fn add_aov_tile(film: &mut Film, x0: u32, y0: u32, sums: &[f64]) {
+    let n = film.aov_names.len();
+    if n == 0 {
+        return;
+    }
+    let x1 = (x0 + TILE).min(film.width);
+    let y1 = (y0 + TILE).min(film.height);
+    let row = ((x1 - x0) as usize) * n;
+    for (k, y) in (y0..y1).enumerate() {
+        let at = ((y * film.width + x0) as usize) * n;
+        for (a, b) in film.aov[at..at + row].iter_mut().zip(&sums[k * row..]) {
+            *a += b;
+        }
+    }
 }
 
 fn add_tile(film: &mut Film, x0: u32, y0: u32, acc: &[[f64; 4]]) {

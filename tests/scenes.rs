@@ -104,6 +104,8 @@ scene_tests! {
     scales_snake => "scales-snake.xml",
     scales_sphere => "scales-sphere.xml",
     scales_torus => "scales-torus.xml",
+    snake_head => "snake-head.xml",
+    snake_poses => "snake-poses.xml",
     snake_shape => "snake-shape.xml",
     thesis_fig4_1_diffuse => "thesis/fig4-1-diffuse.xml",
     thesis_fig4_2_bump => "thesis/fig4-2-bump.xml",

@@ -108,9 +108,8 @@ pub fn radiance(
     let front = si.ng.dot(wo) >= 0.0;
     let tc = TexCoord { uv: si.uv, p: si.p };
     let (bxdf, two_sided) = material.eval(&tc, wl, front, sampler.vertex_seed());
-    let pixel_angle = scene.camera.pixel_angle(scene.height);
     let bsdf = Bsdf {
-        frame: material.shading_frame(&si, wo, pixel_angle * si.t),
+        frame: material.shading_frame(&si, wo, scene.camera.footprint(scene.height, si.t)),
         bxdf,
         two_sided,
     };

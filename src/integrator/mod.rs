@@ -1,5 +1,6 @@
 //! Light-transport integrators.
 
+pub mod aov;
 pub mod direct;
 pub mod path;
 

@@ -66,9 +66,8 @@ pub fn radiance(
     let use_bsdf_hits = strategy != PathStrategy::LightOnly;
     let mut depth = 0u32;
     let mut null_crossings = 0u32;
-    // Pixel footprint for texture filtering: the camera's pixel angle times the path length
-    // (no ray differentials yet; after a bounce this underestimates the footprint).
-    let pixel_angle = scene.camera.pixel_angle(scene.height);
+    // Pixel footprint for texture filtering: the camera's estimate at the path length (no ray
+    // differentials yet; after a bounce this underestimates the footprint).
     let mut path_length = 0.0f32;
 
     loop {
@@ -140,7 +139,11 @@ pub fn radiance(
         let tc = TexCoord { uv: si.uv, p: si.p };
         let (bxdf, two_sided) = material.eval(&tc, wl, front, sampler.vertex_seed());
         let bsdf = Bsdf {
-            frame: material.shading_frame(&si, wo, pixel_angle * path_length),
+            frame: material.shading_frame(
+                &si,
+                wo,
+                scene.camera.footprint(scene.height, path_length),
+            ),
             bxdf,
             two_sided,
         };

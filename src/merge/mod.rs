@@ -34,6 +34,8 @@ pub const KEY_SPP: &str = "ophis.spp";
 pub const KEY_TILE_SPP: &str = "ophis.tile_spp";
 /// Metadata key of the seed (a comma-separated list of seeds in a merged file).
 pub const KEY_SEED: &str = "ophis.seed";
+/// Header key listing the AOV channels of an `aov` render (which merging would drop).
+pub const KEY_AOVS: &str = "ophis.aovs";
 /// Metadata key of the readable scene name (file name and `-D` values).
 pub const KEY_SCENE: &str = "ophis.scene";
 /// Metadata key of the scene hash ([`SceneIdentity::hash_hex`]).
@@ -193,6 +195,14 @@ pub fn merge(inputs: &[MergeInput]) -> Result<Merged, String> {
             return Err(format!(
                 "{} is {} × {} but {} is {w} × {h}: only renders of the same resolution merge",
                 inp.name, inp.image.width, inp.image.height, first.name
+            ));
+        }
+        if let Some(list) = meta(&inp.metadata, KEY_AOVS) {
+            return Err(format!(
+                "{} carries AOV channels ({list}); ophis merge combines only R, G and B and would \
+                 drop them: merge renders of the scene without its aov integrator, or render \
+                 the AOVs once at the full sample count",
+                inp.name
             ));
         }
         match (meta(&inp.metadata, KEY_SCENE_HASH), hashed) {

@@ -123,3 +123,10 @@ fn refuses_other_scenes_by_name() {
     assert!(!m.metadata.iter().any(|(k, _)| k == KEY_SCENE_HASH));
     assert_eq!(m.image.data[0], [2.0; 3]);
 }
+
+#[test]
+fn refuses_renders_carrying_aov_channels() {
+    let with_aovs = input("aov.exr", 1.0, 2, &[(KEY_SAMPLES, "2"), (KEY_AOVS, "dd.T")]);
+    let e = merge(&[with_aovs]).unwrap_err();
+    assert!(e.contains("aov.exr carries AOV channels (dd.T)"), "{e}");
+}

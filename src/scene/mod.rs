@@ -7,7 +7,7 @@ pub mod mitsuba;
 
 use crate::accel::{Accel, Bvh};
 use crate::bsdf::Material;
-use crate::camera::PerspectiveCamera;
+use crate::camera::Camera;
 use crate::film::Filter;
 use crate::light::{Light, LightSampler};
 use crate::math::{Bounds3, Ray};
@@ -38,6 +38,8 @@ pub struct IntegratorSettings {
     pub rr_depth: u32,
     /// Hide directly visible emitters.
     pub hide_emitters: bool,
+    /// Mitsuba's `aov` integrator around the path tracer: extra channels to record.
+    pub aov: Option<crate::integrator::aov::AovSettings>,
 }
 
 impl Default for IntegratorSettings {
@@ -47,6 +49,7 @@ impl Default for IntegratorSettings {
             max_depth: None,
             rr_depth: 5,
             hide_emitters: false,
+            aov: None,
         }
     }
 }
@@ -69,11 +72,14 @@ pub struct Scene {
     pub shape_material: Vec<u32>,
     /// Area light index per shape, if the shape emits.
     pub shape_light: Vec<Option<u32>>,
+    /// A label per shape for messages and the `shape_index` AOV's legend: the element's `id`,
+    /// or its plugin name, with the part for shapes made of several (`snake.belly`).
+    pub shape_labels: Vec<String>,
     pub lights: Vec<Light>,
     pub light_sampler: LightSampler,
     /// Indices of lights at infinity (environment, constant).
     pub infinite_lights: Vec<u32>,
-    pub camera: PerspectiveCamera,
+    pub camera: Camera,
     pub width: u32,
     pub height: u32,
     pub filter: Filter,

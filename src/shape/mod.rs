@@ -56,6 +56,7 @@ pub struct ShapeSample {
 pub mod alias;
 pub mod cylinder;
 pub mod disk;
+pub mod litter;
 pub mod load;
 pub mod mesh;
 pub mod obj;

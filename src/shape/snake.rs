@@ -1,72 +1,177 @@
-//! `snake`: a procedural snake body — a tube around a smooth S-shaped centreline, with a rounded
-//! head, a neck, a long tapering tail and a slightly flattened belly, lying on the ground plane.
-//! Built as a closed triangle mesh with smooth normals and UVs made for the `scales` texture.
+//! `snake`: a procedural snake modelled on the sunbeam snake (*Xenopeltis unicolor*) — a
+//! flattened, wedge-shaped head that flows into the body with very little neck, small eyes, a
+//! round body with a flattened belly, and a short tapering tail — lying on the ground in an
+//! S-curve or coiled. Built as closed triangle meshes, one per *part*, each with UVs made for
+//! the `scales` texture and its own material.
 //!
-//! Object space is y-up: the snake lies on y = 0 (its belly touches it along the body; the
-//! centre of the section stays at least half a radius up towards the tips), head towards −x. The
-//! centreline is x = X·τ − X/2, z = `amplitude`·sin(2π·`waves`·τ + `phase`), τ ∈ [0, 1], with X
-//! chosen so that its arc length is `length`; it is resampled by arc length s.
+//! **Parts and materials** (the Mitsuba way: nested BSDFs named after the part, the unnamed one
+//! as the fallback for parts without their own):
 //!
-//! Radius along the body, t = s/`length` from the snout (0) to the tail tip (1):
-//! r(t) = `radius` · cap(t) · neck(t) · tail(t), with cap = √(1 − (1 − t/h)²) for t < h =
-//! `head_length` (a rounded snout), neck = 1 − (1 − `neck`)·exp(−((t − 1.4h)/(0.4h))²) (a
-//! narrowing just behind the head), tail = (x(2 − x))^0.8·√(1 − (1 − min(x/0.03, 1))²) with
-//! x = (1 − t)/`tail_length` for the last `tail_length` of the body (a taper ending in a point
-//! rounded over its last 3 %).
-//! Cross-section at angle α (α = −90° is the belly midline): (cos α, sin α·k(α)) in the plane of
-//! the sideways and up directions, scaled by r, with k = 1 − `flatten`·sin²α on the belly half and 1
-//! on the back: an ellipse-like belly whose height is (1 − `flatten`) of its width, joined to the
-//! round back without a crease.
+//! ```xml
+//! <shape type="snake">
+//!     <ref id="skin"/>                        <!-- every part without its own -->
+//!     <ref id="belly_skin" name="belly"/>     <!-- the ventral plates -->
+//!     <ref id="head_skin" name="head"/>       <!-- the head shields -->
+//!     <bsdf type="plastic" name="eyes"> … </bsdf>
+//! </shape>
+//! ```
 //!
-//! UV: u ∈ [0, 1] around the body in proportion to arc length around the cross-section,
-//! starting and ending on the belly midline
-//! (the seam, where u jumps from 1 to 0, is under the snake); v = s/P along the body, with P the
-//! perimeter of the thickest cross-section, so v runs from 0 at the snout to `length`/P at the
-//! tail and a `scales` texture with `scale_u` = `scale_v` gives scales as long as they are wide
-//! where the body is thickest (they narrow with the body towards head and tail, as real
-//! scale rows do). Each tip is a fan of triangles around a single point.
+//! | part    | surface                                   | UV                                        |
+//! |---------|-------------------------------------------|-------------------------------------------|
+//! | `body`  | dorsal and lateral skin behind the head   | u ∈ [0, 1] across the dorsal arc (belly edge, back, belly edge); v = ∫ ds/P_d from the back of the head |
+//! | `belly` | the flattened belly, a band of `belly_width` of the section's perimeter, snout to tail | u ∈ [0, 1] across the band; v = ∫ ds/P_d from the snout |
+//! | `head`  | the head above the belly band             | the head map of the `scales` texture's `head` layout: u as `body`, v = s/(`head_length`·`length`) ∈ [0, 1] |
+//! | `eyes`  | two spheres set into the sides of the head | a sphere's |
+//!
+//! P_d is the local length of the dorsal arc (floored at a fifth of its largest value), so a
+//! `scales` texture with `scale_u` = `scale_v` = N gives N square dorsal rows around the body
+//! everywhere — narrowing, not stretching, towards the head and tail as real scale rows do.
+//! The sunbeam snake has 15 dorsal rows at mid-body (`scale_u` = 15) and one wide ventral plate
+//! per row (`layout="rows"`, `scale_u` = 1, the same `scale_v`). The parts become separate
+//! shapes in the order body, belly, head, eyes (the `shape_index` AOV tells them apart); their
+//! shared borders are welded (same vertices, same normals).
+//!
+//! **Anatomy.** t = s/`length` from the snout (0) to the tail tip (1); R = `radius`; h =
+//! `head_length`. The half-width a(t) = R·e(t)·cap(t)·tip(t): the envelope e is a C¹ piecewise
+//! cubic through the landmarks (snout 0.55·`head_width`, the jaw joint at 0.85h at
+//! `head_width`, the neck at 1.35h at `neck`, full width from max(0.3, 3h) to 0.62, 0.8 at the
+//! vent 1 − `tail_length`), and the tail tapers as 0.8·(x^0.75/3 + 2x(2 − x)/3) with
+//! x = (1 − t)/`tail_length` (pointed at the tip, meeting the body's slope at the vent);
+//! cap rounds the snout over `snout`·h and tip the last 3 % of the tail. The section at angle
+//! α (−90° = belly midline) is (a·cos α, a·sin α·k(α)·(1 − `flatten`·sin²α on the belly
+//! half)), k blending from the lower to the upper height ratio: 1 on the body, on the head
+//! `head_height` above (less towards the snout: a wedge in side view) and 0.8·`head_height`
+//! below (a flat lower jaw), blended over 0.8h–2.6h. Every function is C¹, so there is no crease
+//! or bulb where the head meets the body. The belly rests on the ground (y = 0; the chin rises a
+//! little towards the snout). Each eye is a sphere of radius `eye_size`·a(t_eye) at the head
+//! map's eye position, bulging out of the head by 40 % of its radius.
+//!
+//! **Poses** (`pose`): `s_curve` — x = X·τ − X/2, z = `amplitude`·sin(2π·`waves`·τ + `phase`),
+//! X chosen so the arc length is `length`, head towards −x; `coil` — an Archimedean spiral
+//! r = r0 + g·φ on the ground, tail at the centre (r0 = `coil_radius`·R), turns
+//! `coil_spacing`·2R apart (> 1 leaves a gap between them), head outside, rotated by `phase`.
+//! `roll` turns a stretch of either pose about its centreline, as a resting snake often lies
+//! with part of its body tilted on its side, the section dropped back onto the ground.
+//! A pose that makes the body pass through itself (or bend tighter than it is wide) loads with
+//! a warning naming where (see `self_intersection`).
 //!
 //! | XML name          | type      | default | unit        | meaning                                  |
 //! |-------------------|-----------|---------|-------------|------------------------------------------|
+//! | `pose`            | string    | `s_curve` | —         | `s_curve` or `coil`                       |
 //! | `length`          | float     | 4       | world units | length along the centreline              |
-//! | `radius`          | float     | 0.12    | world units | largest body radius                      |
-//! | `waves`           | float     | 1.25    | —           | periods of the S-curve along the body    |
-//! | `amplitude`       | float     | 0.45    | world units | sideways swing of the centreline         |
-//! | `phase`           | float     | 0       | degrees     | phase of the swing at the snout          |
-//! | `head_length`     | float     | 0.07    | of length   | snout to the back of the head            |
-//! | `neck`            | float     | 0.8     | of radius   | neck radius                              |
-//! | `tail_length`     | float     | 0.35    | of length   | tapering tail                            |
+//! | `radius`          | float     | 0.06    | world units | largest body half-width                  |
+//! | `waves`           | float     | 1.25    | —           | `s_curve`: periods along the body        |
+//! | `amplitude`       | float     | 0.45    | world units | `s_curve`: sideways swing                |
+//! | `phase`           | float     | 0       | degrees     | `s_curve`: phase at the snout; `coil`: rotation |
+//! | `coil_radius`     | float     | 2       | of `radius` | `coil`: radius of the innermost turn     |
+//! | `coil_spacing`    | float     | 1.12    | of 2·`radius` | `coil`: distance between turns         |
+//! | `head_length`     | float     | 0.035   | of length   | snout to the back of the head (≤ 0.15)   |
+//! | `head_width`      | float     | 0.78    | of radius   | half-width at the jaw joint              |
+//! | `head_height`     | float     | 0.6     | of width    | height of the head over its width        |
+//! | `snout`           | float     | 0.3     | of head     | length over which the snout is rounded   |
+//! | `neck`            | float     | 0.74    | of radius   | half-width of the neck (≤ `head_width`)  |
+//! | `tail_length`     | float     | 0.1     | of length   | vent to the tail tip (≤ 0.5)             |
 //! | `flatten`         | float     | 0.25    | —           | belly height deficit (0 = round)         |
-//! | `segments_along`  | integer   | 600     | —           | rings along the body                     |
-//! | `segments_around` | integer   | 64      | —           | vertices around a ring                   |
+//! | `belly_width`     | float     | 0.22    | of perimeter| width of the ventral plates' band        |
+//! | `eyes`            | boolean   | true    | —           | add the eyes                             |
+//! | `eye_size`        | float     | 0.12    | of head half-width | eye radius                        |
+//! | `roll`            | float     | 0       | degrees     | turn a stretch of the body about its centreline (shows the belly) |
+//! | `roll_at`         | float     | 0.5     | of length   | centre of the rolled stretch             |
+//! | `roll_span`       | float     | 0.25    | of length   | its length (eased in and out over its outer quarters) |
+//! | `segments_along`  | integer   | 800     | —           | rings along the body                     |
+//! | `segments_around` | integer   | 48      | —           | vertices around a ring                   |
 //! | `to_world`        | transform | identity| —           | placement                                |
 //! | `flip_normals`    | boolean   | false   | —           | normals inwards                          |
 //!
-//! A picture of the default snake is `docs/snake-shape.png` (`scenes/snake-shape.xml`). Users
-//! can still load their own snake with `obj`/`ply`.
+//! Proportions: a 1 m *Xenopeltis* has a head of ~3 cm and a tail ~10 % of its length
+//! (subcaudals are about a seventh of the ventrals' count), and is ~2.5–3 cm thick; the
+//! defaults keep these ratios for `length` 4. Pictures: `docs/snake-poses.png`
+//! (`scenes/snake-poses.xml`, the two poses with each part in its own colour) and
+//! `docs/snake-head.png` (`scenes/snake-head.xml`). Users can still load their own snake with
+//! `obj`/`ply`.
 //!
-//! Limits: planar centreline (no coils stacked in height); the body may intersect itself if
-//! `amplitude` is large against the wavelength `length`/`waves`; no separate jaw or eyes.
+//! Limits: planar poses only (no coil stacked on another, no raised head); one head-shield
+//! layout; the belly band's plates continue under the chin, where a real snake has small chin
+//! shields; no mouth opening, nostrils or cloaca.
+
+mod build;
+mod pose;
+mod profile;
 
 use super::load::MeshData;
 use super::mesh::{MeshError, TriangleMesh};
-use crate::math::{Transform, Vec2, Vec3};
+use crate::math::Transform;
+pub use crate::texture::head_shields::{EYE_OFFSET, EYE_V};
 use std::collections::HashMap;
-use std::f64::consts::{PI, TAU};
+
+/// How the snake lies.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Pose {
+    SCurve,
+    Coil,
+}
+
+impl Pose {
+    /// The XML name.
+    pub fn from_name(s: &str) -> Option<Pose> {
+        match s {
+            "s_curve" => Some(Pose::SCurve),
+            "coil" => Some(Pose::Coil),
+            _ => None,
+        }
+    }
+}
+
+/// A part of the snake with its own shape and material.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Part {
+    Body,
+    Belly,
+    Head,
+    Eyes,
+}
+
+impl Part {
+    /// The part's name (the `name` of its nested BSDF).
+    pub fn name(self) -> &'static str {
+        match self {
+            Part::Body => "body",
+            Part::Belly => "belly",
+            Part::Head => "head",
+            Part::Eyes => "eyes",
+        }
+    }
+
+    /// All parts, in the order they become shapes.
+    pub const ALL: [Part; 4] = [Part::Body, Part::Belly, Part::Head, Part::Eyes];
+}
 
 /// Shape parameters (see the module header).
 #[derive(Clone, Debug, PartialEq)]
 pub struct SnakeParams {
+    pub pose: Pose,
     pub length: f32,
     pub radius: f32,
     pub waves: f32,
     pub amplitude: f32,
     /// Radians.
     pub phase: f32,
+    pub coil_radius: f32,
+    pub coil_spacing: f32,
     pub head_length: f32,
+    pub head_width: f32,
+    pub head_height: f32,
+    pub snout: f32,
     pub neck: f32,
     pub tail_length: f32,
     pub flatten: f32,
+    pub belly_width: f32,
+    pub eyes: bool,
+    pub eye_size: f32,
+    /// Radians.
+    pub roll: f32,
+    pub roll_at: f32,
+    pub roll_span: f32,
     pub segments_along: u32,
     pub segments_around: u32,
 }
@@ -74,257 +179,66 @@ pub struct SnakeParams {
 impl Default for SnakeParams {
     fn default() -> SnakeParams {
         SnakeParams {
+            pose: Pose::SCurve,
             length: 4.0,
-            radius: 0.12,
+            radius: 0.06,
             waves: 1.25,
             amplitude: 0.45,
             phase: 0.0,
-            head_length: 0.07,
-            neck: 0.8,
-            tail_length: 0.35,
+            coil_radius: 2.0,
+            coil_spacing: 1.12,
+            head_length: 0.035,
+            head_width: 0.78,
+            head_height: 0.6,
+            snout: 0.3,
+            neck: 0.74,
+            tail_length: 0.1,
             flatten: 0.25,
-            segments_along: 600,
-            segments_around: 64,
+            belly_width: 0.22,
+            eyes: true,
+            eye_size: 0.12,
+            roll: 0.0,
+            roll_at: 0.5,
+            roll_span: 0.25,
+            segments_along: 800,
+            segments_around: 48,
         }
     }
 }
 
-impl SnakeParams {
-    /// Body radius at t = s/length (0 at both tips).
-    pub fn radius_at(&self, t: f64) -> f64 {
-        let h = self.head_length.max(1e-3) as f64;
-        let c = 1.0 - (t / h).min(1.0);
-        let cap = (1.0 - c * c).max(0.0).sqrt();
-        let w = 0.4 * h;
-        let neck = 1.0 - (1.0 - self.neck as f64) * (-((t - 1.4 * h) / w).powi(2)).exp();
-        let x = ((1.0 - t) / self.tail_length.max(1e-3) as f64).clamp(0.0, 1.0);
-        // A taper, rounded off over the last 3 % of the tail so the tip has a normal.
-        let e = 1.0 - (x / 0.03).min(1.0);
-        let tail = (x * (2.0 - x)).powf(0.8) * (1.0 - e * e).sqrt();
-        self.radius as f64 * cap * neck * tail
-    }
-
-    /// Cross-section offset (sideways, up) at angle `alpha` for radius `r`.
-    fn section(&self, alpha: f64, r: f64) -> (f64, f64) {
-        let s = alpha.sin();
-        let k = if s < 0.0 {
-            1.0 - self.flatten as f64 * s * s
-        } else {
-            1.0
-        };
-        (r * alpha.cos(), r * s * k)
-    }
-
-    /// Perimeter of the cross-section of radius `radius` (numerically).
-    pub fn perimeter(&self) -> f64 {
-        let n = 720;
-        let pt = |i: usize| self.section(TAU * i as f64 / n as f64, self.radius as f64);
-        (0..n)
-            .map(|i| {
-                let (a, b) = (pt(i), pt(i + 1));
-                ((a.0 - b.0).powi(2) + (a.1 - b.1).powi(2)).sqrt()
-            })
-            .sum()
-    }
+/// The parts' meshes in object space (body, belly, head, and the eyes if asked for).
+pub fn snake_parts(p: &SnakeParams) -> Vec<(Part, MeshData)> {
+    build::parts(p)
 }
 
-/// The centreline resampled by arc length: `n + 1` points (x, z) and unit tangents, s = k·L/n.
-fn centreline(p: &SnakeParams, n: usize) -> (Vec<[f64; 2]>, Vec<[f64; 2]>) {
-    let (a, w, ph, len) = (
-        p.amplitude as f64,
-        p.waves as f64,
-        p.phase as f64,
-        p.length as f64,
-    );
-    let dense = 8192;
-    let curve = |x_span: f64, tau: f64| [x_span * (tau - 0.5), a * (TAU * w * tau + ph).sin()];
-    let arc = |x_span: f64| -> Vec<f64> {
-        let mut acc = vec![0.0];
-        let mut prev = curve(x_span, 0.0);
-        for i in 1..=dense {
-            let q = curve(x_span, i as f64 / dense as f64);
-            let d = ((q[0] - prev[0]).powi(2) + (q[1] - prev[1]).powi(2)).sqrt();
-            acc.push(acc[i - 1] + d);
-            prev = q;
-        }
-        acc
-    };
-    // Shrink the x span until the arc length is `length` (a fixed point; converges fast).
-    let mut x_span = len;
-    let mut table = arc(x_span);
-    for _ in 0..30 {
-        x_span *= len / table[dense];
-        table = arc(x_span);
-    }
-    let total = table[dense];
-    let mut pts = Vec::with_capacity(n + 1);
-    let mut tangents = Vec::with_capacity(n + 1);
-    let mut k = 0;
-    for i in 0..=n {
-        let target = total * i as f64 / n as f64;
-        while k + 1 < dense && table[k + 1] < target {
-            k += 1;
-        }
-        let seg = (table[k + 1] - table[k]).max(1e-300);
-        let tau = (k as f64 + ((target - table[k]) / seg).clamp(0.0, 1.0)) / dense as f64;
-        pts.push(curve(x_span, tau));
-        let dx = x_span;
-        let dz = a * TAU * w * (TAU * w * tau + ph).cos();
-        let l = (dx * dx + dz * dz).sqrt();
-        tangents.push([dx / l, dz / l]);
-    }
-    (pts, tangents)
-}
-
-/// Angles α of `n` points evenly spaced by arc length around the cross-section, from the belly
-/// midline (α = −90°).
-fn section_angles(p: &SnakeParams, n: usize) -> Vec<f64> {
-    let dense = 64 * n;
-    let alpha = |i: usize| -PI / 2.0 + TAU * i as f64 / dense as f64;
-    let mut acc = vec![0.0];
-    for i in 0..dense {
-        let (a, b) = (p.section(alpha(i), 1.0), p.section(alpha(i + 1), 1.0));
-        acc.push(acc[i] + ((a.0 - b.0).powi(2) + (a.1 - b.1).powi(2)).sqrt());
-    }
-    let total = acc[dense];
-    let mut out = Vec::with_capacity(n);
-    let mut k = 0;
-    for m in 0..n {
-        let target = total * m as f64 / n as f64;
-        while acc[k + 1] < target {
-            k += 1;
-        }
-        let w = (target - acc[k]) / (acc[k + 1] - acc[k]).max(1e-300);
-        out.push(alpha(k) + w * (alpha(k + 1) - alpha(k)));
-    }
-    out
-}
-
-/// Vertices, smooth normals, UVs and triangles of the snake (object space).
-pub fn snake_geometry(p: &SnakeParams) -> MeshData {
-    let na = p.segments_around.max(3) as usize;
-    let ns = p.segments_along.max(4) as usize;
-    // Rings crowd towards the tips, where the radius changes fastest: s = L·(τ − 0.8·sin(2πτ)/2π).
-    let fine = 4 * ns;
-    let (line, tan) = centreline(p, fine);
-    let ring_t = |k: usize| {
-        let tau = k as f64 / ns as f64;
-        (tau - 0.8 * (TAU * tau).sin() / TAU).clamp(0.0, 1.0)
-    };
-    let perimeter = p.perimeter();
-    let len = p.length as f64;
-    // Arc length around the thickest section, for u proportional to distance around.
-    let around = section_angles(p, na);
-    let mut positions = Vec::new();
-    let mut uvs = Vec::new();
-    let mut key = Vec::new(); // welded vertex id (seams and tips share one)
-    let sample = |t: f64| {
-        let f = t * fine as f64;
-        let i = (f.floor() as usize).min(fine - 1);
-        let w = f - i as f64;
-        let mix = |a: [f64; 2], b: [f64; 2]| [a[0] + w * (b[0] - a[0]), a[1] + w * (b[1] - a[1])];
-        let c = mix(line[i], line[i + 1]);
-        let d = mix(tan[i], tan[i + 1]);
-        let l = (d[0] * d[0] + d[1] * d[1]).sqrt();
-        (c, [d[0] / l, d[1] / l])
-    };
-    // Rings 1..ns−1; the tips (k = 0, ns) are single points.
-    for k in 1..ns {
-        let t = ring_t(k);
-        let (c, d) = sample(t);
-        let r = p.radius_at(t);
-        // The belly rests on the ground along the body; towards the tips, where r → 0, the
-        // centre stays at least half a body radius up, so the snout and tail tip are round
-        // rather than wedged against the ground.
-        let big = p.radius as f64;
-        let lift = (1.0 - p.flatten as f64) * (r + 0.5 * (big - r) * (1.0 - r / big).powi(2));
-        // Sideways unit vector in the ground plane: (−dz, dx) rotated so that (side, up, along)
-        // is right-handed and the surface winds outwards.
-        let side = [d[1], -d[0]];
-        for m in 0..=na {
-            let alpha = around[m % na];
-            let (sx, sy) = p.section(alpha, r);
-            positions.push(
-                glam::DVec3::new(c[0] + sx * side[0], lift + sy, c[1] + sx * side[1]).as_vec3(),
-            );
-            uvs.push(Vec2::new(
-                m as f32 / na as f32,
-                (t * len / perimeter) as f32,
-            ));
-            key.push(((k - 1) * na + m % na) as u32);
-        }
-    }
-    let ring = |k: usize, m: usize| ((k - 1) * (na + 1) + m) as u32;
-    let mut indices = Vec::with_capacity(2 * na * ns);
-    for k in 1..ns - 1 {
-        for m in 0..na {
-            indices.push([ring(k, m), ring(k, m + 1), ring(k + 1, m + 1)]);
-            indices.push([ring(k, m), ring(k + 1, m + 1), ring(k + 1, m)]);
-        }
-    }
-    // Tips: one apex vertex per fan triangle (same position) so that each carries its own u.
-    let tip_key_base = ((ns - 1) * na) as u32;
-    let tip_lift = 0.5 * (1.0 - p.flatten as f64) * p.radius as f64;
-    for (tip, t, k) in [(0u32, 0.0, 1usize), (1, 1.0, ns - 1)] {
-        let (c, _) = sample(t);
-        let apex = glam::DVec3::new(c[0], tip_lift, c[1]).as_vec3();
-        for m in 0..na {
-            let a = positions.len() as u32;
-            positions.push(apex);
-            uvs.push(Vec2::new(
-                (m as f32 + 0.5) / na as f32,
-                (t * len / perimeter) as f32,
-            ));
-            key.push(tip_key_base + tip);
-            if tip == 0 {
-                indices.push([a, ring(k, m + 1), ring(k, m)]);
-            } else {
-                indices.push([a, ring(k, m), ring(k, m + 1)]);
-            }
-        }
-    }
-    let normals = smooth_normals(&positions, &indices, &key);
-    MeshData {
-        positions,
-        normals: Some(normals),
-        uvs: Some(uvs),
-        indices,
-    }
-}
-
-/// Area-weighted vertex normals, shared by all vertices with the same `key`.
-fn smooth_normals(positions: &[Vec3], indices: &[[u32; 3]], key: &[u32]) -> Vec<Vec3> {
-    let n_keys = key.iter().max().map_or(0, |k| *k as usize + 1);
-    let mut acc = vec![glam::DVec3::ZERO; n_keys];
-    for tri in indices {
-        let [a, b, c] = tri.map(|i| positions[i as usize].as_dvec3());
-        let n = (b - a).cross(c - a);
-        for &i in tri {
-            acc[key[i as usize] as usize] += n;
-        }
-    }
-    key.iter()
-        .map(|&k| acc[k as usize].normalize_or_zero().as_vec3())
-        .collect()
+/// Where the pose makes the body pass through itself, as two positions t = s/`length` (equal
+/// for a bend tighter than the body is wide), checked at `stations` points along it.
+pub fn self_intersection(p: &SnakeParams, stations: usize) -> Option<(f64, f64)> {
+    pose::self_intersection(p, stations)
 }
 
 impl TriangleMesh {
-    /// The `snake` shape.
-    pub fn snake(
+    /// The `snake` shape's parts as meshes.
+    pub fn snake_parts(
         p: &SnakeParams,
         to_world: &Transform,
         flip_normals: bool,
-    ) -> Result<TriangleMesh, MeshError> {
-        let g = snake_geometry(p);
-        TriangleMesh::new(
-            g.positions,
-            g.normals,
-            g.uvs,
-            g.indices,
-            to_world,
-            flip_normals,
-            false,
-        )
+    ) -> Result<Vec<(Part, TriangleMesh)>, MeshError> {
+        snake_parts(p)
+            .into_iter()
+            .map(|(part, g)| {
+                let m = TriangleMesh::new(
+                    g.positions,
+                    g.normals,
+                    g.uvs,
+                    g.indices,
+                    to_world,
+                    flip_normals,
+                    false,
+                )?;
+                Ok((part, m))
+            })
+            .collect()
     }
 }
 

@@ -9,12 +9,13 @@ use std::sync::Arc;
 
 pub mod bitmap;
 pub mod checkerboard;
+pub mod head_shields;
 pub mod per_scale;
 pub mod scales;
 
 pub use bitmap::Bitmap;
 pub use per_scale::PerScale;
-pub use scales::Scales;
+pub use scales::{Layout, Scales};
 
 /// What a texture is asked for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

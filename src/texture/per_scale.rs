@@ -93,7 +93,7 @@ impl PerScale {
     /// The value of the cell under `uv`.
     #[inline]
     pub fn eval(&self, uv: Vec2) -> f32 {
-        self.lo + self.cells.sample(uv).id * (self.hi - self.lo)
+        self.lo + self.cells.id_at(uv) * (self.hi - self.lo)
     }
 }
 

@@ -236,3 +236,196 @@ fn tilts_stay_in_their_cone_and_vary_per_cell() {
         mean / s.tilt
     );
 }
+
+#[test]
+fn rows_layout_makes_one_plate_across_u_with_grooves_at_both_edges() {
+    let s = Scales {
+        layout: Layout::Rows,
+        scale_u: 1.0,
+        scale_v: 15.0,
+        irregularity: 0.3,
+        gap: 0.08,
+        ..Scales::default()
+    };
+    let mut rng = Pcg32::new(8, 8);
+    for _ in 0..2000 {
+        let v = 3.0 * rng.next_f32();
+        let a = s.sample(Vec2::new(0.3, v));
+        let b = s.sample(Vec2::new(0.7, v));
+        // One plate spans the width: same cell, same id, wherever across u.
+        assert_eq!(a.id, b.id, "at v {v}");
+        // Its side edges are the band's edges, u = 0 and u = 1.
+        let e = s.sample(Vec2::new(0.002, v)).edge_distance;
+        assert!(e < 0.003, "edge distance {e} at the band's edge");
+    }
+    // Rows are laid end to end along v: about scale_v plates per unit v.
+    let mut ids = std::collections::HashSet::new();
+    for i in 0..3000 {
+        // The centre, unlike the lattice index, is not wrapped by the period of scale_v.
+        ids.insert(
+            s.sample(Vec2::new(0.5, i as f32 / 1000.0))
+                .center
+                .y
+                .to_bits(),
+        );
+    }
+    assert!((ids.len() as i32 - 45).abs() <= 1, "{}", ids.len());
+}
+
+#[test]
+fn head_layout_gives_every_shield_its_cell_and_closes_the_map_edges() {
+    let s = Scales {
+        layout: Layout::Head,
+        scale_u: 1.0,
+        scale_v: 1.0,
+        gap: 0.06,
+        ..Scales::default()
+    };
+    let seeds = crate::texture::head_shields::seeds();
+    let n = crate::texture::head_shields::shields();
+    let mut ids = std::collections::HashSet::new();
+    for (i, q) in seeds.iter().enumerate().take(n) {
+        let a = s.sample(*q);
+        assert_eq!(
+            a.cell,
+            (i as i32, 0),
+            "the seed of shield {i} lies in its own cell"
+        );
+        assert!(a.groove < 0.5, "shield {i}'s centre is in a groove");
+        ids.insert(a.id.to_bits());
+    }
+    assert_eq!(ids.len(), n, "shields share ids");
+    // Along the lower lip (u = 0) and the back of the head (v = 1) runs a groove: the map's
+    // edges are shield edges.
+    let mut rng = Pcg32::new(4, 4);
+    for _ in 0..200 {
+        let t = 0.05 + 0.9 * rng.next_f32();
+        for uv in [Vec2::new(0.0, t), Vec2::new(1.0, t)] {
+            let e = s.sample(uv).edge_distance;
+            assert!(e < 0.05, "edge distance {e} at {uv}");
+        }
+    }
+    // The pattern is mirror-symmetric about the crown's midline.
+    for _ in 0..500 {
+        let uv = rng.next_vec2();
+        let a = s.sample(uv).edge_distance;
+        let b = s.sample(Vec2::new(1.0 - uv.x, uv.y)).edge_distance;
+        assert!((a - b).abs() < 1e-4, "{a} vs {b} at {uv}");
+    }
+}
+
+#[test]
+fn the_closed_form_gradient_matches_central_differences() {
+    // Central differences 1e-4 of a cell wide: their error is O(h²) where the relief is smooth
+    // and O(h·Δf'') ≤ 1e-4 × 6/gap² ≈ 0.1 at the few places its second derivative jumps
+    // (groove shoulders, the dome's rim); f32 cell coordinates of ~10 resolve the step to
+    // ~0.5 %. The steps are measured as represented in f32. Where
+    // the second-nearest edge changes from one neighbour to another near a corner, the
+    // smooth minimum keeps the height continuous but its slope has a small kink, which a
+    // difference straddling it does not see: a few points in a thousand may differ more.
+    for s in [
+        irregular(),
+        Scales {
+            overlap: 0.6,
+            overlap_dir: Vec2::new(0.6, 0.8),
+            gap: 0.1,
+            ..irregular()
+        },
+        Scales {
+            layout: Layout::Rows,
+            scale_u: 1.0,
+            ..irregular()
+        },
+        Scales {
+            layout: Layout::Head,
+            scale_u: 1.3,
+            scale_v: 1.0,
+            ..Scales::default()
+        },
+    ] {
+        let mut rng = Pcg32::new(21, 4);
+        let k = Vec2::new(s.scale_u, s.scale_v) * if s.layout == Layout::Head { 8.0 } else { 1.0 };
+        let mut worst = 0.0f32;
+        let mut off = 0;
+        for _ in 0..3000 {
+            // Near the origin, where f32 resolves the small steps.
+            let uv = rng.next_vec2() * if s.layout == Layout::Head { 1.0 } else { 0.15 };
+            for width in [0.0, 0.8] {
+                let g = s.gradient(uv, width);
+                let (hu, hv) = (1e-4 / k.x, 1e-4 / k.y);
+                let (up, um) = (uv + Vec2::new(hu, 0.0), uv - Vec2::new(hu, 0.0));
+                let (vp, vm) = (uv + Vec2::new(0.0, hv), uv - Vec2::new(0.0, hv));
+                let fd = Vec2::new(
+                    (s.height(up, width) - s.height(um, width)) / (up.x - um.x),
+                    (s.height(vp, width) - s.height(vm, width)) / (vp.y - vm.y),
+                );
+                // Compare in cell units (the slope per cell), where the relief's slopes are O(10).
+                let err = ((g - fd) / k).length();
+                worst = worst.max(err);
+                let slope = (g / k).length();
+                if err > 0.03 + 0.02 * slope {
+                    off += 1;
+                }
+                assert!(
+                    err < 0.15 + 0.1 * slope,
+                    "{:?} at {uv}: {g} vs {fd}",
+                    s.layout
+                );
+            }
+        }
+        assert!(worst > 0.0);
+        assert!(off <= 60, "{:?}: {off} of 6000 differ", s.layout);
+    }
+}
+
+#[test]
+fn the_narrow_search_finds_the_nearest_centre_up_to_its_irregularity_bound() {
+    // With irregularity ≤ 0.35 the search looks one row and column either side; check against
+    // a brute-force search three either side, for both lattices.
+    for layout in [Layout::Hex, Layout::Rows] {
+        let s = Scales {
+            irregularity: 0.35,
+            layout,
+            ..irregular()
+        };
+        let lat = s.lattice();
+        let mut rng = Pcg32::new(77, 1);
+        for _ in 0..20000 {
+            let uv = rng.next_vec2();
+            let p = s.to_cell_space(uv);
+            let (j0, i0) = (p.y.round() as i32, p.x.floor() as i32);
+            let mut best = (f32::INFINITY, (0, 0));
+            for j in j0 - 3..=j0 + 3 {
+                let row = s.row_hash(j, lat);
+                for i in i0 - 3..=i0 + 3 {
+                    let (c, _, cell) = s.center(i, j, row, lat);
+                    let d = (p - c).length_squared();
+                    if d < best.0 {
+                        best = (d, cell);
+                    }
+                }
+            }
+            assert_eq!(s.sample(uv).cell, best.1, "{layout:?} at {uv}");
+        }
+    }
+}
+
+#[test]
+fn the_nearest_lookup_agrees_with_the_full_sample() {
+    for s in [
+        irregular(),
+        Scales {
+            layout: Layout::Head,
+            scale_u: 1.3,
+            ..Scales::default()
+        },
+    ] {
+        let mut rng = Pcg32::new(5, 9);
+        for _ in 0..5000 {
+            let uv = rng.next_vec2();
+            let full = s.sample(uv);
+            assert_eq!(s.nearest(uv).0, full.cell);
+            assert_eq!(s.id_at(uv), full.id);
+        }
+    }
+}

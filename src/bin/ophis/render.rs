@@ -5,7 +5,7 @@ use clap::Parser;
 use indicatif::{ProgressBar, ProgressStyle};
 use ophis::checkpoint::{hash_bytes, RenderState, StateInfo};
 use ophis::film::Film;
-use ophis::image_io::{write_exr, write_png, RgbImage};
+use ophis::image_io::{write_exr, write_exr_channels, write_png, RgbImage};
 use ophis::integrator::PathStrategy;
 use ophis::merge::{render_metadata, SceneIdentity};
 use ophis::render::{render_with, Progress, RenderControl, RenderOptions, TileOrder};
@@ -328,8 +328,19 @@ pub fn run(args: RenderArgs) -> Result<()> {
             scene.width,
             scene.height
         ),
-        Some(f) => f,
-        None => Film::new(scene.width, scene.height),
+        Some(f) => {
+            let names = aov_channel_names(&scene);
+            if f.aov_names != names {
+                bail!(
+                    "cannot resume: the state holds the AOV channels [{}] but the scene now \
+                     records [{}]",
+                    f.aov_names.join(", "),
+                    names.join(", ")
+                );
+            }
+            f
+        }
+        None => Film::with_aovs(scene.width, scene.height, aov_channel_names(&scene)),
     };
 
     let cancel = Arc::new(AtomicBool::new(false));
@@ -392,6 +403,8 @@ pub fn run(args: RenderArgs) -> Result<()> {
         data: film.to_linear_srgb(),
     };
     let meta = render_metadata(&film, stats.spp_complete, scene.sampler.seed, &scene_id);
+    let (extra, aov_meta) = aov_outputs(&scene, &film, &image);
+    let meta: Vec<(String, String)> = meta.into_iter().chain(aov_meta).collect();
     for o in &outputs {
         let is_png = o
             .extension()
@@ -399,8 +412,11 @@ pub fn run(args: RenderArgs) -> Result<()> {
             .is_some_and(|e| e.eq_ignore_ascii_case("png"));
         if is_png {
             write_png(o, &image).with_context(|| format!("writing {}", o.display()))?;
-        } else {
+        } else if extra.is_empty() {
             write_exr(o, &image, &meta).with_context(|| format!("writing {}", o.display()))?;
+        } else {
+            write_exr_channels(o, &image, &extra, &meta)
+                .with_context(|| format!("writing {}", o.display()))?;
         }
     }
     // The state is worth keeping when the render can be continued or was asked for.
@@ -445,4 +461,62 @@ pub fn run(args: RenderArgs) -> Result<()> {
         );
     }
     Ok(())
+}
+
+/// An EXR channel: its name and row-major values.
+type NamedChannel = (String, Vec<f32>);
+
+/// The AOV channels the scene's integrator records (none without `aov`).
+fn aov_channel_names(scene: &ophis::scene::Scene) -> Vec<String> {
+    scene
+        .integrator
+        .aov
+        .as_ref()
+        .map_or(Vec::new(), |a| a.channel_names())
+}
+
+/// The extra EXR channels of an `aov` render — the nested integrator's RGBA copy under its name
+/// (as Mitsuba writes it) and the AOVs — and the header entries that describe them: the channel
+/// list (`ophis.aovs`, which `ophis merge` refuses) and the shape labels behind `shape_index`.
+fn aov_outputs(
+    scene: &ophis::scene::Scene,
+    film: &Film,
+    image: &RgbImage,
+) -> (Vec<NamedChannel>, Vec<(String, String)>) {
+    let Some(aov) = &scene.integrator.aov else {
+        return (Vec::new(), Vec::new());
+    };
+    let mut extra = Vec::new();
+    if let Some(name) = &aov.image_name {
+        for (c, ch) in ["R", "G", "B"].iter().enumerate() {
+            extra.push((
+                format!("{name}.{ch}"),
+                image.data.iter().map(|p| p[c]).collect(),
+            ));
+        }
+        extra.push((format!("{name}.A"), vec![1.0; image.data.len()]));
+    }
+    extra.extend(film.aov_images());
+    let mut meta = vec![(
+        ophis::merge::KEY_AOVS.to_string(),
+        extra
+            .iter()
+            .map(|(n, _)| n.as_str())
+            .collect::<Vec<_>>()
+            .join(","),
+    )];
+    if aov
+        .aovs
+        .iter()
+        .any(|a| a.kind == ophis::integrator::aov::AovKind::ShapeIndex)
+    {
+        let legend: Vec<String> = scene
+            .shape_labels
+            .iter()
+            .enumerate()
+            .map(|(i, l)| format!("{}={l}", i + 1))
+            .collect();
+        meta.push(("ophis.shapes".to_string(), legend.join(";")));
+    }
+    (extra, meta)
 }

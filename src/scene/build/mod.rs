@@ -11,7 +11,7 @@ use super::mitsuba::{self, Node, SceneError, Tag, Warning};
 use super::{IntegratorKind, IntegratorSettings, SamplerSettings, Scene};
 use crate::accel::Bvh;
 use crate::bsdf::Material;
-use crate::camera::{FovAxis, PerspectiveCamera};
+use crate::camera::{Camera, FovAxis, OrthographicCamera, PerspectiveCamera, ThinLensCamera};
 use crate::film::Filter;
 use crate::light::{Light, LightSampler};
 use crate::math::{Bounds3, Transform};
@@ -99,6 +99,7 @@ pub(crate) struct Builder {
     pub shapes: Vec<crate::shape::Shape>,
     pub shape_material: Vec<u32>,
     pub shape_light: Vec<Option<u32>>,
+    pub shape_labels: Vec<String>,
     pub materials: Vec<Material>,
     /// Materials already built, keyed by node identity (shared through `<ref>`).
     pub material_ids: HashMap<*const Node, u32>,
@@ -171,8 +172,15 @@ fn build_scene(
         Some(s) => build_sensor(s, opts.resolution, warnings)?,
         None => {
             let (w, h) = opts.resolution.unwrap_or((768, 576));
-            let cam =
-                PerspectiveCamera::new(Transform::IDENTITY, 45.0, FovAxis::X, w, h, 1e-2, 1e4);
+            let cam = Camera::Perspective(PerspectiveCamera::new(
+                Transform::IDENTITY,
+                45.0,
+                FovAxis::X,
+                w,
+                h,
+                1e-2,
+                1e4,
+            ));
             (
                 cam,
                 w,
@@ -225,6 +233,7 @@ fn build_scene(
         materials: b.materials,
         shape_material: b.shape_material,
         shape_light: b.shape_light,
+        shape_labels: b.shape_labels,
         lights: b.lights,
         light_sampler,
         infinite_lights,
@@ -251,6 +260,7 @@ fn build_integrator(
 ) -> Result<IntegratorSettings, SceneError> {
     let kind = match node.plugin.as_str() {
         "path" => IntegratorKind::Path,
+        "aov" => return build_aov(node, warnings),
         // Mitsuba's `moment` renders its (first) nested integrator and adds second-moment AOVs.
         "moment" => {
             let nested: Vec<&Arc<Node>> = node.children_with_tag(Tag::Integrator).collect();
@@ -329,17 +339,59 @@ fn build_integrator(
         },
         rr_depth: rr_depth as u32,
         hide_emitters,
+        aov: None,
     })
 }
 
-type SensorParts = (PerspectiveCamera, u32, u32, Filter, SamplerSettings);
+/// Mitsuba's `aov`: the `aovs` list and at most one nested `path` for the colour image (see
+/// `integrator/aov.rs`).
+fn build_aov(node: &Node, warnings: &mut Vec<Warning>) -> Result<IntegratorSettings, SceneError> {
+    use crate::integrator::aov::{parse_aovs, AovSettings};
+    let spec = node.props.get_string("aovs", "")?;
+    let aovs = parse_aovs(&spec).map_err(|e| {
+        SceneError::at(
+            node.props.location("aovs").unwrap_or(&node.loc),
+            format!("{}: 'aovs': {e}", node.describe()),
+        )
+    })?;
+    let nested: Vec<_> = node
+        .children
+        .iter()
+        .filter(|c| c.node.tag == Tag::Integrator)
+        .collect();
+    if let Some(extra) = nested.get(1) {
+        return Err(SceneError::at(
+            &extra.node.loc,
+            "ophis's aov integrator takes at most one nested integrator",
+        ));
+    }
+    let (mut settings, has_image, image_name) = match nested.first() {
+        Some(c) if c.node.plugin == "aov" => {
+            return Err(SceneError::at(
+                &c.node.loc,
+                "an aov integrator cannot nest another",
+            ))
+        }
+        Some(c) => (build_integrator(&c.node, warnings)?, true, c.name.clone()),
+        None => (IntegratorSettings::default(), false, None),
+    };
+    settings.aov = Some(AovSettings {
+        aovs,
+        has_image,
+        image_name,
+    });
+    Ok(settings)
+}
+
+type SensorParts = (Camera, u32, u32, Filter, SamplerSettings);
 
 fn build_sensor(
     node: &Node,
     resolution: Option<(u32, u32)>,
     warnings: &mut Vec<Warning>,
 ) -> Result<SensorParts, SceneError> {
-    if node.plugin != "perspective" {
+    let kind = node.plugin.as_str();
+    if !matches!(kind, "perspective" | "thinlens" | "orthographic") {
         warnings.push(Warning {
             loc: node.loc.clone(),
             message: format!(
@@ -394,6 +446,64 @@ fn build_sensor(
             }),
         }
     }
+    let near = checked_float(
+        node,
+        "near_clip",
+        1e-2,
+        |v| v > 0.0 && v.is_finite(),
+        "positive",
+    )?;
+    let far = checked_float(
+        node,
+        "far_clip",
+        1e4,
+        |v| v > near && v.is_finite(),
+        "greater than near_clip",
+    )?;
+    let to_world = node.props.get_transform("to_world", Transform::IDENTITY)?;
+    if let Some((w, h)) = resolution {
+        (width, height) = (w.max(1), h.max(1));
+    }
+    if kind == "orthographic" {
+        let cam = OrthographicCamera::new(to_world, width, height, near, far);
+        return Ok((Camera::Orthographic(cam), width, height, filter, sampler));
+    }
+    let (fov, axis) = field_of_view(node)?;
+    // Mitsuba's projective cameras all read the focus distance; the pinhole ignores it.
+    let focus = checked_float(
+        node,
+        "focus_distance",
+        far,
+        |v| v > 0.0 && v.is_finite(),
+        "positive",
+    )?;
+    let pinhole = PerspectiveCamera::new(to_world, fov, axis, width, height, near, far);
+    let cam = if kind == "thinlens" {
+        let Some(aperture) = node.props.get_float_opt("aperture_radius")? else {
+            return Err(SceneError::at(
+                &node.loc,
+                format!("{} needs an 'aperture_radius'", node.describe()),
+            ));
+        };
+        if !(aperture >= 0.0 && aperture.is_finite()) {
+            return Err(SceneError::at(
+                node.props.location("aperture_radius").unwrap_or(&node.loc),
+                format!("aperture_radius must be zero or positive, got {aperture}"),
+            ));
+        }
+        Camera::ThinLens(ThinLensCamera {
+            pinhole,
+            aperture_radius: aperture,
+            focus_distance: focus,
+        })
+    } else {
+        Camera::Perspective(pinhole)
+    };
+    Ok((cam, width, height, filter, sampler))
+}
+
+/// `fov` (or `focal_length`) and `fov_axis` of a perspective or thin-lens camera.
+fn field_of_view(node: &Node) -> Result<(f32, FovAxis), SceneError> {
     let fov = match node.props.get_float_opt("fov")? {
         Some(f) => f,
         None => {
@@ -432,26 +542,7 @@ fn build_sensor(
             format!("fov_axis must be one of x, y, diagonal, smaller, larger; got '{axis_name}'"),
         )
     })?;
-    let near = checked_float(
-        node,
-        "near_clip",
-        1e-2,
-        |v| v > 0.0 && v.is_finite(),
-        "positive",
-    )?;
-    let far = checked_float(
-        node,
-        "far_clip",
-        1e4,
-        |v| v > near && v.is_finite(),
-        "greater than near_clip",
-    )?;
-    let to_world = node.props.get_transform("to_world", Transform::IDENTITY)?;
-    if let Some((w, h)) = resolution {
-        (width, height) = (w.max(1), h.max(1));
-    }
-    let cam = PerspectiveCamera::new(to_world, fov, axis, width, height, near, far);
-    Ok((cam, width, height, filter, sampler))
+    Ok((fov, axis))
 }
 
 fn build_filter(node: &Node, warnings: &mut Vec<Warning>) -> Result<Filter, SceneError> {

@@ -3,7 +3,9 @@
 //! any other shape diffuse 0.5, as in Mitsuba 3) and optional area emitter; and
 //! `shapegroup` / `instance`, flattened at load: every instance adds a copy of the group's shapes
 //! moved by the instance's `to_world` (materials are shared; memory grows with the copies).
-//! As in Mitsuba, a group may not hold instances or groups.
+//! As in Mitsuba, a group may not hold instances or groups. A `snake` becomes one shape per
+//! part; a nested BSDF named after a part (`belly`, `head`, `eyes`, `body`) is that part's, the
+//! unnamed one every other part's.
 
 use super::emitters::area_light;
 use super::materials::material_for;
@@ -138,7 +140,11 @@ fn add_shape_at(
         "rectangle" => Shape::Mesh(TriangleMesh::rectangle(&to_world, flip).map_err(|e| err(&e))?),
         "cube" => Shape::Mesh(TriangleMesh::cube(&to_world, flip).map_err(|e| err(&e))?),
         "torus" => super::procedural::torus(node, &to_world, flip)?,
-        "snake" => super::procedural::snake(node, &to_world, flip)?,
+        "litter" => super::procedural::litter(node, &to_world, flip)?,
+        "snake" => {
+            let parts = super::procedural::snake(node, &to_world, flip, warnings)?;
+            return add_parts(b, node, parts, warnings);
+        }
         "obj" | "ply" | "serialized" => {
             let Some(path) = node.props.get_path_opt("filename")? else {
                 return Err(SceneError::at(
@@ -211,11 +217,28 @@ fn add_shape_at(
         }
     };
 
+    add_parts(b, node, vec![(None, shape)], warnings)
+}
+
+/// Adds the shapes made from one `<shape>` element, each part with the nested BSDF of its name
+/// (the unnamed one otherwise) and the element's emitter.
+fn add_parts<P: PartName>(
+    b: &mut Builder,
+    node: &Node,
+    parts: Vec<(P, Shape)>,
+    warnings: &mut Vec<Warning>,
+) -> Result<(), SceneError> {
+    let part_names: Vec<&str> = parts.iter().filter_map(|(p, _)| p.part_name()).collect();
     let mut bsdf_node = None;
+    let mut part_bsdfs: Vec<(&str, &std::sync::Arc<Node>)> = Vec::new();
     let mut emitter_node = None;
     for c in &node.children {
+        let part = c.name.as_deref().filter(|n| part_names.contains(n));
         match c.node.tag {
-            Tag::Bsdf if bsdf_node.is_none() => bsdf_node = Some(&c.node),
+            Tag::Bsdf if part.is_some() && !part_bsdfs.iter().any(|(n, _)| Some(*n) == part) => {
+                part_bsdfs.push((part.unwrap_or_default(), &c.node))
+            }
+            Tag::Bsdf if bsdf_node.is_none() && part.is_none() => bsdf_node = Some(&c.node),
             Tag::Emitter if emitter_node.is_none() => emitter_node = Some(&c.node),
             _ => warnings.push(Warning {
                 loc: c.node.loc.clone(),
@@ -227,30 +250,58 @@ fn add_shape_at(
             }),
         }
     }
-    let material = match (bsdf_node, emitter_node) {
-        (Some(n), _) => material_for(b, n, warnings)?,
-        // Mitsuba 3 gives an emitter without a BSDF a black one (shape.cpp): lights do not
-        // reflect other lights.
-        (None, Some(_)) => *b.black_material.get_or_insert_with(|| {
-            b.materials
-                .push(Material::diffuse(SpectrumTexture::Constant(
-                    Spectrum::Constant(0.0),
-                )));
-            b.materials.len() as u32 - 1
-        }),
-        (None, None) => b.default_material(),
-    };
-    let index = b.shapes.len() as u32;
-    let light = match emitter_node {
-        Some(e) => {
-            let l = area_light(e, index)?;
-            b.lights.push(l);
-            Some(b.lights.len() as u32 - 1)
-        }
-        None => None,
-    };
-    b.shapes.push(shape);
-    b.shape_material.push(material);
-    b.shape_light.push(light);
+    let label = node.id.clone().unwrap_or_else(|| node.plugin.clone());
+    for (part, shape) in parts {
+        let own = part_bsdfs
+            .iter()
+            .find(|(n, _)| Some(*n) == part.part_name())
+            .map(|(_, n)| *n);
+        let material = match (own.or(bsdf_node), emitter_node) {
+            (Some(n), _) => material_for(b, n, warnings)?,
+            // Mitsuba 3 gives an emitter without a BSDF a black one (shape.cpp): lights do not
+            // reflect other lights.
+            (None, Some(_)) => *b.black_material.get_or_insert_with(|| {
+                b.materials
+                    .push(Material::diffuse(SpectrumTexture::Constant(
+                        Spectrum::Constant(0.0),
+                    )));
+                b.materials.len() as u32 - 1
+            }),
+            (None, None) => b.default_material(),
+        };
+        let index = b.shapes.len() as u32;
+        let light = match emitter_node {
+            Some(e) => {
+                let l = area_light(e, index)?;
+                b.lights.push(l);
+                Some(b.lights.len() as u32 - 1)
+            }
+            None => None,
+        };
+        b.shapes.push(shape);
+        b.shape_material.push(material);
+        b.shape_light.push(light);
+        b.shape_labels.push(match part.part_name() {
+            Some(p) => format!("{label}.{p}"),
+            None => label.clone(),
+        });
+    }
     Ok(())
+}
+
+/// The name of a part of a shape made of several (none for a plain shape).
+trait PartName {
+    fn part_name(&self) -> Option<&'static str>;
+}
+
+impl PartName for Option<crate::shape::snake::Part> {
+    fn part_name(&self) -> Option<&'static str> {
+        self.map(|p| p.name())
+    }
+}
+
+impl PartName for crate::shape::snake::Part {
+    fn part_name(&self) -> Option<&'static str> {
+        Some(self.name())
+    }
 }

@@ -1,4 +1,4 @@
-//! Perspective pinhole camera with Mitsuba's conventions.
+//! `perspective`: a pinhole camera with Mitsuba's conventions.
 //!
 //! | XML name    | type      | default | meaning                                              |
 //! |-------------|-----------|---------|------------------------------------------------------|
@@ -7,6 +7,8 @@
 //! | `near_clip` | float     | 0.01    | distance along the view axis where rays start        |
 //! | `far_clip`  | float     | 10000   | distance along the view axis where rays end          |
 //! | `to_world`  | transform | id.     | camera-to-world; the camera looks down its local +z  |
+//! | `focal_length` | string | `50mm`  | alternative to `fov`: 35 mm film equivalent (diagonal) |
+//! | `focus_distance` | float | —      | read and ignored, as Mitsuba's pinhole does (`thinlens` uses it) |
 //!
 //! As in Mitsuba, the camera's local +x axis points to the *left* of the image and +y up, so a
 //! `lookat` transform (x = up × dir) gives an upright, unmirrored picture. Mitsuba 0.6's `fovAxis`
@@ -91,25 +93,33 @@ impl PerspectiveCamera {
         2.0 * self.tan_half.y / height.max(1) as f32
     }
 
-    /// The camera ray through the film point `film` ∈ [0,1]² (x right, y down).
+    /// The camera-space direction (not normalised, z = 1) through the film point `film` ∈ [0,1]²
+    /// (x right, y down).
     #[inline]
-    pub fn generate_ray(&self, film: Vec2) -> Ray {
-        let d_cam = Vec3::new(
+    pub fn local_direction(&self, film: Vec2) -> Vec3 {
+        Vec3::new(
             (1.0 - 2.0 * film.x) * self.tan_half.x,
             (1.0 - 2.0 * film.y) * self.tan_half.y,
             1.0,
-        );
-        let inv_len = 1.0 / d_cam.length();
-        let d_local = d_cam * inv_len;
-        let o = self.to_world.point(d_local * (self.near_clip * inv_len));
+        )
+    }
+
+    /// The camera ray through the film point `film` ∈ [0,1]² (x right, y down).
+    #[inline]
+    pub fn generate_ray(&self, film: Vec2) -> Ray {
+        let d_cam = self.local_direction(film);
+        let len = d_cam.length();
+        let d_local = d_cam / len;
+        // The clip planes are perpendicular to the view axis: along d_local (z = 1/len) they are
+        // `len` times farther than their z.
+        let o = self.to_world.point(d_local * (self.near_clip * len));
         let d = self.to_world.vector(d_local).normalize();
-        let span = (self.far_clip - self.near_clip) * inv_len;
         // A scaled to_world changes lengths; measure the clip range in world units.
         let scale = self.to_world.vector(d_local).length();
         Ray {
             o,
             d,
-            t_max: span * scale,
+            t_max: (self.far_clip - self.near_clip) * len * scale,
         }
     }
 
