@@ -22,7 +22,7 @@
 //! From inside a dielectric base (cos θ < 0) the light meets the same film from the other side:
 //! n0 = interior, n2 = exterior.
 
-use crate::optics::thinfilm::film_r;
+use crate::optics::thinfilm::{film_r, film_r4};
 use crate::spectrum::rgb2spec::rgb_to_sigmoid;
 use crate::spectrum::{SampledSpectrum, N};
 use num_complex::Complex64 as C;
@@ -91,6 +91,12 @@ fn exact(ext: f32, film: f32, n: f32, k: f32, d: f32, lambda: f32, cos0: f32) ->
         n2,
         lambda as f64,
     );
+    finite_r(r)
+}
+
+/// A reflectance in [0, 1] (1 where the optics gave no number).
+#[inline]
+fn finite_r(r: f64) -> f64 {
     if r.is_finite() {
         r.clamp(0.0, 1.0)
     } else {
@@ -188,17 +194,37 @@ impl FilmFresnel {
         match self.mode {
             FilmMode::Spectral => {
                 let s = &self.spectral;
-                let r = SampledSpectrum::from_fn(|i| {
-                    exact(
-                        self.ext,
-                        s.film[i],
-                        s.base_n[i],
-                        s.base_k[i],
-                        self.d_nm,
-                        s.lambda[i],
-                        cos0,
-                    ) as f32
-                });
+                let r = if s.base_k.iter().all(|&k| k == 0.0) {
+                    // Real indices: the four wavelengths in one pass of 4-lane arithmetic.
+                    let lane = |a: &[f32; N]| std::array::from_fn(|i| a[i] as f64);
+                    let (ext, film, base) = ([self.ext as f64; N], lane(&s.film), lane(&s.base_n));
+                    let (n0, n2) = if cos0 >= 0.0 {
+                        (ext, base)
+                    } else {
+                        (base, ext)
+                    };
+                    let r4 = film_r4(
+                        (cos0 as f64).abs(),
+                        n0,
+                        film,
+                        self.d_nm as f64,
+                        n2,
+                        lane(&s.lambda),
+                    );
+                    SampledSpectrum::from_fn(|i| finite_r(r4[i]) as f32)
+                } else {
+                    SampledSpectrum::from_fn(|i| {
+                        exact(
+                            self.ext,
+                            s.film[i],
+                            s.base_n[i],
+                            s.base_k[i],
+                            self.d_nm,
+                            s.lambda[i],
+                            cos0,
+                        ) as f32
+                    })
+                };
                 (r, r.average())
             }
             FilmMode::Thesis => {
