@@ -178,7 +178,10 @@ fn main() {
             let (scene, _) = load_scene(path, &opts).expect("scene loads");
             println!("{}: {} primitives", path.display(), scene.primitive_count());
             let cam = scene.camera.clone();
-            (scene.shapes, Box::new(move |u| cam.generate_ray(u)))
+            (
+                scene.shapes,
+                Box::new(move |u| cam.generate_ray(u, Vec2::splat(0.5))),
+            )
         }
         None => {
             let (t_read, data) = best(a.repeat, || ophis::shape::ply::read_ply(&a.mesh).unwrap());

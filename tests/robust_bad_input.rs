@@ -8,7 +8,12 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 fn temp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("ophis-bad-{}-{name}", std::process::id()));
+    // The test's own name too: tests run in parallel threads and reuse case names.
+    let test = std::thread::current()
+        .name()
+        .unwrap_or("main")
+        .replace("::", "-");
+    let d = std::env::temp_dir().join(format!("ophis-bad-{}-{test}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).unwrap();
     d
