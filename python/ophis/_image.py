@@ -46,9 +46,18 @@ def write(path: Union[str, os.PathLike], image: Union[np.ndarray, RenderResult],
     those; names and values must be Latin-1 text.
     """
     header: dict[str, str] = {}
+    extra_names: list[str] = []
+    extra = b""
     if isinstance(image, RenderResult):
         header.update(image.metadata)
-        image = image.image
+        # AOV channels go into an EXR beside R, G, B under their names (a PNG holds RGB).
+        extra_names = list(image.channels[3:])
+        if extra_names and os.fspath(path).lower().endswith(".exr"):
+            planes = np.moveaxis(np.asarray(image.image[..., 3:], dtype=np.float32), 2, 0)
+            extra = np.ascontiguousarray(planes).tobytes()
+        else:
+            extra_names = []
+        image = image.image[..., :3]
     if metadata:
         header.update({str(k): str(v) for k, v in metadata.items()})
     for k, v in header.items():
@@ -69,7 +78,7 @@ def write(path: Union[str, os.PathLike], image: Union[np.ndarray, RenderResult],
     if h == 0 or w == 0:
         raise ValueError(f"cannot write an empty image ({w} × {h})")
     data = np.ascontiguousarray(a, dtype=np.float32).tobytes()
-    _ophis.write(os.fspath(path), w, h, data, list(header.items()))
+    _ophis.write(os.fspath(path), w, h, data, list(header.items()), extra_names, extra)
 
 
 def read(path: Union[str, os.PathLike]) -> tuple[np.ndarray, ImageInfo]:

@@ -7,9 +7,11 @@
 use ophis::tools::inspect::{at_wavelength, bsdf_ids, find_bsdf, linear_srgb, Quantity};
 use ophis::film::Film;
 use ophis::scene::builtin::XENOPELTIS_XML;
-use ophis::image_io::{read_exr_metadata, read_image, write_exr, write_png, ImageError, RgbImage};
+use ophis::image_io::{
+    read_exr_metadata, read_image, write_exr, write_exr_channels, write_png, ImageError, RgbImage,
+};
 use ophis::integrator::PathStrategy;
-use ophis::merge::{decode_tile_spp, render_metadata, SceneIdentity, KEY_TILE_SPP};
+use ophis::merge::{decode_tile_spp, render_metadata, SceneIdentity, KEY_AOVS, KEY_TILE_SPP};
 use ophis::optics::filmstack::FilmStack;
 use ophis::optics::filmtool::{parse_index, rt_deg, stack_rgb};
 use ophis::optics::ior::Ior;
@@ -249,13 +251,22 @@ pub fn render(
     };
     let stats = pool.install(|| render_with(scene, &mut film, 0, &opts, &ctl));
     let metadata = render_metadata(&film, stats.spp_complete, scene.sampler.seed, &s.identity);
+    // The `aov` integrator's channels follow R, G, B in each pixel, named as in the EXR that
+    // `ophis render` writes; Python reshapes by the number of names.
+    let aovs = film.aov_images();
+    let mut channels: Vec<String> = vec!["R".into(), "G".into(), "B".into()];
+    channels.extend(aovs.iter().map(|(n, _)| n.clone()));
+    let rgb = film.to_linear_srgb();
+    let mut data = Vec::with_capacity(rgb.len() * channels.len());
+    for (i, p) in rgb.iter().enumerate() {
+        data.extend_from_slice(p);
+        data.extend(aovs.iter().map(|(_, a)| a[i]));
+    }
     Ok(Rendered {
         width: film.width as usize,
         height: film.height as usize,
-        // Channels beyond RGB (the `aov` integrator's, once it exists) are appended to each
-        // pixel here and named in `channels`; Python reshapes by the number of names.
-        channels: vec!["R".into(), "G".into(), "B".into()],
-        data: film.to_linear_srgb().into_iter().flatten().collect(),
+        channels,
+        data,
         metadata,
         spp_complete: stats.spp_complete,
         samples: film.total_weight() as u64,
@@ -264,13 +275,15 @@ pub fn render(
     })
 }
 
-/// Writes RGB pixels (row-major, 3 floats each) as EXR (with `metadata` in its header) or
-/// PNG (sRGB-encoded, 8 bit), chosen by the extension.
+/// Writes RGB pixels (row-major, 3 floats each) as EXR (with `metadata` in its header and the
+/// named `extra` channels, e.g. AOVs, beside R, G, B) or PNG (sRGB-encoded, 8 bit, RGB only),
+/// chosen by the extension.
 pub fn write_image(
     path: &Path,
     width: usize,
     height: usize,
     rgb: &[f32],
+    extra: &[(String, Vec<f32>)],
     metadata: &[(String, String)],
 ) -> Result<(), Error> {
     let image = RgbImage {
@@ -283,7 +296,14 @@ pub fn write_image(
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
     match ext.as_deref() {
-        Some("exr") => write_exr(path, &image, metadata)?,
+        Some("exr") if extra.is_empty() => write_exr(path, &image, metadata)?,
+        Some("exr") => {
+            // Marked as `ophis render` marks AOV files, so that `ophis merge` refuses them.
+            let names: Vec<&str> = extra.iter().map(|(n, _)| n.as_str()).collect();
+            let mut meta = metadata.to_vec();
+            meta.push((KEY_AOVS.to_string(), names.join(",")));
+            write_exr_channels(path, &image, extra, &meta)?
+        }
         Some("png") => write_png(path, &image)?,
         _ => {
             return Err(Error::Value(format!(

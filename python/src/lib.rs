@@ -251,8 +251,12 @@ fn render<'py>(
         .into_pyobject(py)
 }
 
-/// Writes an RGB image (bytes of height × width × 3 native-endian f32) as EXR or PNG.
+/// Writes an RGB image (bytes of height × width × 3 native-endian f32) as EXR or PNG, with
+/// the channels `extra_names` (bytes of one height × width f32 plane each, in order) beside
+/// R, G, B in an EXR.
 #[pyfunction]
+#[pyo3(signature = (path, width, height, data, metadata, extra_names=Vec::new(), extra=None))]
+#[allow(clippy::too_many_arguments)] // the Python signature, one argument per value
 fn write(
     py: Python<'_>,
     path: PathBuf,
@@ -260,7 +264,29 @@ fn write(
     height: usize,
     data: &[u8],
     metadata: Vec<(String, String)>,
+    extra_names: Vec<String>,
+    extra: Option<&[u8]>,
 ) -> PyResult<()> {
+    let plane = width.checked_mul(height).and_then(|n| n.checked_mul(4));
+    let extra = extra.unwrap_or_default();
+    if plane.and_then(|p| p.checked_mul(extra_names.len())) != Some(extra.len()) {
+        return Err(PyValueError::new_err(format!(
+            "{} bytes for {} extra {width} × {height} float32 channels",
+            extra.len(),
+            extra_names.len()
+        )));
+    }
+    let planes: Vec<(String, Vec<f32>)> = extra_names
+        .into_iter()
+        .zip(extra.chunks_exact(plane.unwrap_or(1).max(1)))
+        .map(|(n, b)| {
+            let v = b
+                .chunks_exact(4)
+                .map(|b| f32::from_ne_bytes([b[0], b[1], b[2], b[3]]))
+                .collect();
+            (n, v)
+        })
+        .collect();
     if width.checked_mul(height).and_then(|n| n.checked_mul(12)) != Some(data.len()) {
         return Err(PyValueError::new_err(format!(
             "{} bytes for a {width} × {height} RGB float32 image",
@@ -272,7 +298,7 @@ fn write(
         .map(|b| f32::from_ne_bytes([b[0], b[1], b[2], b[3]]))
         .collect();
     guard(py, || {
-        core::write_image(&path, width, height, &rgb, &metadata)
+        core::write_image(&path, width, height, &rgb, &planes, &metadata)
     })
 }
 

@@ -180,3 +180,43 @@ def test_bad_arguments_raise(scene, kw, err):
 def test_render_needs_a_scene():
     with pytest.raises(TypeError, match="ophis.Scene"):
         ophis.render("scene.xml")
+
+
+AOV_XML = """<scene version="3.0.0">
+  <integrator type="aov">
+    <string name="aovs" value="dd:depth,nn:sh_normal,id:shape_index"/>
+    <integrator type="path" name="image"/>
+  </integrator>
+  <sensor type="perspective">
+    <transform name="to_world"><lookat origin="0, 0, 4" target="0, 0, 0" up="0, 1, 0"/></transform>
+    <sampler type="independent"><integer name="sample_count" value="2"/></sampler>
+    <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="12"/></film>
+  </sensor>
+  <emitter type="constant"/>
+  <shape type="sphere"/>
+</scene>"""
+
+
+def test_aov_channels_follow_rgb_as_the_cli_writes_them(tmp_path, cli, root):
+    """An `aov` scene: the extra channels come after R, G, B with the CLI's names and values,
+    and `ophis.write` puts them into the EXR, marked so that `ophis merge` refuses it."""
+    sys.path.insert(0, str(root / "tools"))
+    from exr_read import read_exr
+    path = tmp_path / "aov.xml"
+    path.write_text(AOV_XML)
+    cli("render", path, "--seed", 2, "-q", "-o", tmp_path / "c.exr")
+    want, header = read_exr(tmp_path / "c.exr")
+    scene = ophis.load_file(path)
+    img = ophis.render(scene, seed=2, progress=False)
+    r = scene.last_render
+    assert r.channels[:3] == ("R", "G", "B") and len(r.channels) > 3
+    assert img.shape == (12, 16, len(r.channels))
+    for k, name in enumerate(r.channels):
+        assert name in want, (name, sorted(want))
+        assert np.array_equal(img[..., k], want[name]), name
+    ophis.write(tmp_path / "p.exr", r)
+    got, got_header = read_exr(tmp_path / "p.exr")
+    for name in r.channels:
+        assert np.array_equal(got[name], want[name]), name
+    assert set(got_header["ophis.aovs"].split(",")) == set(r.channels[3:])
+    assert set(r.channels[3:]) <= set(header["ophis.aovs"].split(","))
