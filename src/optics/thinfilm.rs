@@ -148,23 +148,16 @@ pub fn film_r4(cos_theta0: f64, n0: F4, n1: F4, d_nm: f64, n2: F4, lambda_nm: F4
 
 /// [`film_rt_complex`]'s reflectance, the same operations in the same order.
 fn film_r_complex(cos_theta0: f64, n0: f64, n1: C, d_nm: f64, n2: C, lambda_nm: f64) -> f64 {
-    let cos0 = cos_theta0.clamp(0.0, 1.0);
-    let sin0 = (1.0 - cos0 * cos0).max(0.0).sqrt();
-    let n0c = C::new(n0, 0.0);
-    let t_inv = n0 * sin0;
-    let c0 = C::new(cos0, 0.0);
-    let c1 = layer_cos(n1, t_inv);
-    let c2 = layer_cos(n2, t_inv);
-    let rs = |ni: C, ci: C, nj: C, cj: C| (ni * ci - nj * cj) / (ni * ci + nj * cj);
-    let rp = |ni: C, ci: C, nj: C, cj: C| (nj * ci - ni * cj) / (nj * ci + ni * cj);
-    let (n1, c1, d_nm) = if d_nm == 0.0 {
-        (n2, c2, 0.0)
-    } else {
-        (n1, c1, d_nm)
-    };
-    let delta = C::new(2.0 * std::f64::consts::PI * d_nm / lambda_nm, 0.0) * n1 * c1;
-    let e1 = (C::i() * delta).exp();
-    let e2 = e1 * e1;
+    let Complex {
+        n0c,
+        c0,
+        n1,
+        c1,
+        n2,
+        c2,
+        e2,
+        ..
+    } = Complex::new(cos_theta0, n0, n1, d_nm, n2, lambda_nm);
     let airy = |r01: C, r12: C| (r01 + r12 * e2) / (C::new(1.0, 0.0) + r01 * r12 * e2);
     let grazing = match (n0c * c0).re.partial_cmp(&0.0) {
         Some(std::cmp::Ordering::Greater) => false,
@@ -236,31 +229,69 @@ fn film_rt_propagating(
 }
 
 /// The general case: complex amplitudes and cosines.
-fn film_rt_complex(cos_theta0: f64, n0: f64, n1: C, d_nm: f64, n2: C, lambda_nm: f64) -> FilmRt {
-    let cos0 = cos_theta0.clamp(0.0, 1.0);
-    let sin0 = (1.0 - cos0 * cos0).max(0.0).sqrt();
-    let n0c = C::new(n0, 0.0);
-    let t_inv = n0 * sin0;
-    let c0 = C::new(cos0, 0.0);
-    let c1 = layer_cos(n1, t_inv);
-    let c2 = layer_cos(n2, t_inv);
+/// What the complex-amplitude paths share: the media, the cosines in them and the film's
+/// phase factors e^{iδ}, e^{2iδ}.
+struct Complex {
+    n0c: C,
+    c0: C,
+    n1: C,
+    c1: C,
+    n2: C,
+    c2: C,
+    e1: C,
+    e2: C,
+}
 
-    // Interface amplitudes (s and p).
-    let rs = |ni: C, ci: C, nj: C, cj: C| (ni * ci - nj * cj) / (ni * ci + nj * cj);
-    let rp = |ni: C, ci: C, nj: C, cj: C| (nj * ci - ni * cj) / (nj * ci + ni * cj);
+impl Complex {
+    fn new(cos_theta0: f64, n0: f64, n1: C, d_nm: f64, n2: C, lambda_nm: f64) -> Complex {
+        let cos0 = cos_theta0.clamp(0.0, 1.0);
+        let sin0 = (1.0 - cos0 * cos0).max(0.0).sqrt();
+        let t_inv = n0 * sin0;
+        let c1 = layer_cos(n1, t_inv);
+        let c2 = layer_cos(n2, t_inv);
+        // A film of zero thickness is no film: use the bare n0|n2 interface. (The Airy sum
+        // gives the same value except exactly at grazing incidence, where it becomes 0/0.)
+        let (n1, c1, d_nm) = if d_nm == 0.0 {
+            (n2, c2, 0.0)
+        } else {
+            (n1, c1, d_nm)
+        };
+        let delta = C::new(2.0 * std::f64::consts::PI * d_nm / lambda_nm, 0.0) * n1 * c1;
+        let e1 = (C::i() * delta).exp();
+        Complex {
+            n0c: C::new(n0, 0.0),
+            c0: C::new(cos0, 0.0),
+            n1,
+            c1,
+            n2,
+            c2,
+            e1,
+            e2: e1 * e1,
+        }
+    }
+}
+
+/// Interface amplitudes (s and p).
+fn rs(ni: C, ci: C, nj: C, cj: C) -> C {
+    (ni * ci - nj * cj) / (ni * ci + nj * cj)
+}
+fn rp(ni: C, ci: C, nj: C, cj: C) -> C {
+    (nj * ci - ni * cj) / (nj * ci + ni * cj)
+}
+
+fn film_rt_complex(cos_theta0: f64, n0: f64, n1: C, d_nm: f64, n2: C, lambda_nm: f64) -> FilmRt {
+    let Complex {
+        n0c,
+        c0,
+        n1,
+        c1,
+        n2,
+        c2,
+        e1,
+        e2,
+    } = Complex::new(cos_theta0, n0, n1, d_nm, n2, lambda_nm);
     let ts = |ni: C, ci: C, nj: C, cj: C| (C::new(2.0, 0.0) * ni * ci) / (ni * ci + nj * cj);
     let tp = |ni: C, ci: C, nj: C, cj: C| (C::new(2.0, 0.0) * ni * ci) / (nj * ci + ni * cj);
-
-    // A film of zero thickness is no film: use the bare n0|n2 interface. (The Airy sum gives
-    // the same value except exactly at grazing incidence, where it becomes 0/0.)
-    let (n1, c1, d_nm) = if d_nm == 0.0 {
-        (n2, c2, 0.0)
-    } else {
-        (n1, c1, d_nm)
-    };
-    let delta = C::new(2.0 * std::f64::consts::PI * d_nm / lambda_nm, 0.0) * n1 * c1;
-    let e1 = (C::i() * delta).exp();
-    let e2 = e1 * e1;
 
     let airy = |r01: C, r12: C, t01: C, t12: C| {
         let den = C::new(1.0, 0.0) + r01 * r12 * e2;
