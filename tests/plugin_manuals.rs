@@ -199,6 +199,7 @@ fn unused_after_load(info: &Info, value: &str) -> Result<Vec<String>, String> {
             .map(|_| ()),
         // Shape index 0 stands for the shape an `area` emitter would be nested in.
         Tag::Emitter => registry::emitter(node, Some(0), &mut w).map(|_| ()),
+        Tag::Shape => registry::shape(node, ophis::math::Transform::IDENTITY, &mut w).map(|_| ()),
         _ => return Err("not checked here".into()),
     };
     r.map_err(|e| e.to_string())?;
@@ -210,7 +211,10 @@ fn every_declared_parameter_is_read_under_every_spelling() {
     let mut checked = 0;
     let mut failures = Vec::new();
     for info in registry::all() {
-        if !matches!(info.tag, Tag::Bsdf | Tag::Texture | Tag::Emitter) {
+        if !matches!(
+            info.tag,
+            Tag::Bsdf | Tag::Texture | Tag::Emitter | Tag::Shape
+        ) {
             continue;
         }
         // Plugins that need nested objects or files are loaded by their own tests.
@@ -276,6 +280,11 @@ fn misspelt_emitters_are_errors_and_mitsuba_ones_ophis_lacks_are_warnings() {
     let e = load(r#"<emitter type="sunksy"/>"#).expect_err("an error");
     assert!(
         e.starts_with("t.xml:3:") && e.contains("did you mean 'sunsky'"),
+        "{e}"
+    );
+    let e = load(r#"<shape type="spehre"/>"#).expect_err("an error");
+    assert!(
+        e.starts_with("t.xml:3:") && e.contains("did you mean 'sphere'"),
         "{e}"
     );
     let (n, w) = load(r#"<emitter type="spot"/><emitter type="constant"/>"#).unwrap();

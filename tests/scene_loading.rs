@@ -228,21 +228,23 @@ fn meshes_load_relative_to_the_scene_file() {
 }
 
 #[test]
-fn unused_parameters_and_unknown_plugins_are_warnings() {
-    let xml = "<scene version=\"3.0.0\">\n<shape type=\"sphere\">\n  <float name=\"radiuss\" value=\"2\"/>\n</shape>\n<shape type=\"teapot\"/>\n</scene>";
+fn unused_parameters_are_warnings_and_unknown_plugins_errors() {
+    // A parameter nothing reads is a warning naming the nearest declared one.
+    let xml = "<scene version=\"3.0.0\">\n<shape type=\"sphere\">\n  <float name=\"radiuss\" value=\"2\"/>\n</shape>\n</scene>";
     let (_, warnings) =
         load_scene_str(xml, Path::new("test.xml"), &LoadOptions::default()).expect("loads");
     let all: Vec<String> = warnings.iter().map(|w| w.to_string()).collect();
     assert!(
-        all.iter()
-            .any(|w| w.contains("radiuss") && w.contains("test.xml:3:")),
+        all.iter().any(|w| w.contains("radiuss")
+            && w.contains("test.xml:3:")
+            && w.contains("did you mean 'radius'")),
         "{all:?}"
     );
-    assert!(
-        all.iter()
-            .any(|w| w.contains("teapot") && w.contains("test.xml:5:")),
-        "{all:?}"
-    );
+    // An unknown shape is an error at its element, as in Mitsuba.
+    let xml =
+        "<scene version=\"3.0.0\">\n<shape type=\"sphere\"/>\n<shape type=\"teapot\"/>\n</scene>";
+    let e = load(xml).expect_err("an unknown plugin is an error");
+    assert!(e.contains("test.xml:3:") && e.contains("teapot"), "{e}");
 }
 
 #[test]

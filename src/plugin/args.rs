@@ -95,8 +95,14 @@ impl<'a> Args<'a> {
     /// child; two spellings at once are an error.
     fn present(&self, p: &Param, requested: &str) -> Result<Option<String>, SceneError> {
         let mut found: Option<String> = None;
+        // A named child counts only for parameters that can be nested objects: a `snake`'s
+        // BSDF named `eyes` is not its boolean `eyes`.
+        let nests = matches!(
+            p.ty,
+            Ty::SpectrumTexture(_) | Ty::FloatTexture | Ty::Bsdf | Ty::Texture | Ty::Object(_)
+        );
         for n in Self::spellings(p, requested) {
-            if self.node.props.contains(&n) || self.node.child(&n).is_some() {
+            if self.node.props.contains(&n) || (nests && self.node.child(&n).is_some()) {
                 if let Some(first) = &found {
                     let loc = self.node.props.location(&n).unwrap_or(&self.node.loc);
                     return Err(SceneError::at(

@@ -112,6 +112,8 @@ pub enum Check {
     Open(f64, f64),
     /// In `lo < v ≤ hi`.
     OpenClosed(f64, f64),
+    /// In `lo ≤ v < hi`.
+    ClosedOpen(f64, f64),
     /// One of these strings.
     OneOf(&'static [&'static str]),
 }
@@ -126,6 +128,7 @@ impl Check {
             Check::Range(lo, hi) => (lo..=hi).contains(&v),
             Check::Open(lo, hi) => v > lo && v < hi,
             Check::OpenClosed(lo, hi) => v > lo && v <= hi,
+            Check::ClosedOpen(lo, hi) => v >= lo && v < hi,
         }
     }
 
@@ -138,6 +141,7 @@ impl Check {
             Check::Range(lo, hi) => format!("between {lo} and {hi}"),
             Check::Open(lo, hi) => format!("strictly between {lo} and {hi}"),
             Check::OpenClosed(lo, hi) => format!("in ({lo}, {hi}]"),
+            Check::ClosedOpen(lo, hi) => format!("in [{lo}, {hi})"),
             Check::OneOf(v) => {
                 let q: Vec<String> = v.iter().map(|s| format!("'{s}'")).collect();
                 format!("one of {}", q.join(", "))

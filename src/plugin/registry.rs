@@ -5,7 +5,9 @@ use super::suggest::did_you_mean;
 use super::{Args, Info, Node, Plugin, SceneError, Tag, Warning};
 use crate::bsdf::{self, Material};
 use crate::light::{self, Light};
+use crate::math::Transform;
 use crate::plugin::SpectrumKind;
+use crate::shape::{self, Parts};
 use crate::texture::{self, FloatTexture, SpectrumTexture, Texture, Want};
 
 /// BSDFs.
@@ -54,18 +56,47 @@ pub(crate) const EMITTERS: &[&Plugin<Vec<Light>, Option<u32>>] = &[
     &light::sunsky::SUN_PLUGIN,
 ];
 
+/// Shapes; the context is the transform of the `instance` placing them (identity otherwise).
+/// `shapegroup` and `instance` are structure, handled by the scene builder.
+pub(crate) const SHAPES: &[&Plugin<Parts, Transform>] = &[
+    &shape::cube::PLUGIN,
+    &shape::cylinder::PLUGIN,
+    &shape::disk::PLUGIN,
+    &shape::litter::PLUGIN,
+    &shape::obj::PLUGIN,
+    &shape::ply::PLUGIN,
+    &shape::rectangle::PLUGIN,
+    &shape::serialized::PLUGIN,
+    &shape::snake::PLUGIN,
+    &shape::sphere::PLUGIN,
+    &shape::torus::PLUGIN,
+];
+
 /// Mitsuba 3 plugins ophis does not have: a scene using one still loads, without it, and a
 /// warning says so (any other unknown name is an error with a suggestion).
-const MITSUBA_ONLY: &[(Tag, &[&str])] = &[(
-    Tag::Emitter,
-    &["spot", "projector", "mesh_attribute", "volumelight"],
-)];
+const MITSUBA_ONLY: &[(Tag, &[&str])] = &[
+    (
+        Tag::Emitter,
+        &["spot", "projector", "mesh_attribute", "volumelight"],
+    ),
+    (
+        Tag::Shape,
+        &[
+            "bsplinecurve",
+            "linearcurve",
+            "sdfgrid",
+            "ellipsoids",
+            "ellipsoidsmesh",
+        ],
+    ),
+];
 
 /// Every plugin's description, grouped by element, sorted by name within a group.
 pub fn all() -> Vec<&'static Info> {
     let mut v: Vec<&'static Info> = BSDFS.iter().map(|p| &p.info).collect();
     v.extend(TEXTURES.iter().map(|p| &p.info));
     v.extend(EMITTERS.iter().map(|p| &p.info));
+    v.extend(SHAPES.iter().map(|p| &p.info));
     v.sort_by_key(|i| (i.tag.as_str(), i.name.to_lowercase()));
     v
 }
@@ -128,6 +159,21 @@ pub fn emitter(
     }
     let p = lookup(EMITTERS, Tag::Emitter, node)?;
     (p.load)(&mut Args::new(node, &p.info, warnings), shape)
+}
+
+/// Builds the shapes a `<shape>` describes (a `snake` is one per part; a Mitsuba shape ophis
+/// lacks, or a mesh of only zero-area triangles, is none, with a warning), placed after
+/// `parent`.
+pub fn shape(
+    node: &Node,
+    parent: Transform,
+    warnings: &mut Vec<Warning>,
+) -> Result<Parts, SceneError> {
+    if mitsuba_only(Tag::Shape, node, warnings) {
+        return Ok(Vec::new());
+    }
+    let p = lookup(SHAPES, Tag::Shape, node)?;
+    (p.load)(&mut Args::new(node, &p.info, warnings), parent)
 }
 
 /// Whether `node` names a Mitsuba plugin ophis does not have (then warned about).

@@ -1,13 +1,15 @@
 //! Analytic cylinder (Mitsuba's `cylinder`): the side surface of a circular cylinder, open at
 //! both ends (no caps, as in Mitsuba).
 //!
-//! | XML name       | type      | default   | meaning                                        |
-//! |----------------|-----------|-----------|------------------------------------------------|
-//! | `p0`           | point     | (0, 0, 0) | start of the axis, object space                |
-//! | `p1`           | point     | (0, 0, 1) | end of the axis, object space                  |
-//! | `radius`       | float     | 1         | radius, object space                           |
-//! | `flip_normals` | boolean   | false     | make the normal point towards the axis         |
-//! | `to_world`     | transform | identity  | rotation, translation, uniform scale; a scale along the axis alone is allowed too |
+//! ## Parameters
+//!
+//! | parameter | type | default | unit | meaning |
+//! |---|---|---|---|---|
+//! | `p0` | point | (0, 0, 0) | object space | start of the axis |
+//! | `p1` | point | (0, 0, 1) | object space | end of the axis |
+//! | `radius` | float | 1.0 | object space | radius; positive |
+//! | `to_world` | transform | — | — | object-to-world transform (after an `instance`'s own) |
+//! | `flip_normals` | boolean | false | — | turn the normals the other way (an area light then emits from the other side) |
 //!
 //! Local frame (as Mitsuba 3): the unit cylinder x² + y² = 1, 0 ≤ z ≤ 1, placed by
 //! `to_world · translate(p0) · frame(p1 − p0) · scale(r, r, |p1 − p0|)`, where `frame(d)` has z
@@ -27,7 +29,36 @@
 //! (Mitsuba only warns; ophis refuses, since area sampling would be wrong).
 use super::{area_to_solid_angle, Hit, ShapeError, ShapeSample, SurfaceInteraction};
 use crate::math::{Bounds3, Frame, Mat4, Ray, Transform, Vec2, Vec3, INV_2PI, PI};
+use crate::plugin::{declare, Args, Check, DefaultValue, Param, SceneError, Ty};
 use glam::{DVec2, DVec3};
+
+declare!(
+    /// The `cylinder` plugin.
+    pub(crate) PLUGIN: super::Parts, Transform = Shape "cylinder" []
+    "analytic cylinder side, open at both ends"
+    [&[
+        Param::new("p0", Ty::Point, DefaultValue::Derived("(0, 0, 0)"))
+            .unit("object space")
+            .doc("start of the axis"),
+        Param::new("p1", Ty::Point, DefaultValue::Derived("(0, 0, 1)"))
+            .unit("object space")
+            .doc("end of the axis"),
+        Param::float("radius", 1.0)
+            .check(Check::Positive)
+            .unit("object space")
+            .doc("radius"),
+    ], super::PLACEMENT] load);
+
+fn load(a: &mut Args, parent: Transform) -> Result<super::Parts, SceneError> {
+    let (to_world, flip) = super::placement(a, &parent)?;
+    let p0 = a.point_opt("p0")?.unwrap_or(Vec3::ZERO);
+    let p1 = a.point_opt("p1")?.unwrap_or(Vec3::Z);
+    let radius = a.float("radius")?;
+    super::one(
+        a,
+        Cylinder::new(p0, p1, radius, &to_world, flip).map(super::Shape::Cylinder),
+    )
+}
 
 /// A cylinder in world space.
 #[derive(Clone, Debug)]

@@ -1,9 +1,13 @@
 //! Analytic disk: the unit disk in the local xy-plane at z = 0, normal +z, placed by `to_world`.
 //!
-//! | XML name       | type      | default  | meaning                                  |
-//! |----------------|-----------|----------|------------------------------------------|
-//! | `to_world`     | transform | identity | any invertible affine map (the disk becomes an ellipse under non-uniform scale) |
-//! | `flip_normals` | boolean   | false    | make the normal point along local −z     |
+//! ## Parameters
+//!
+//! | parameter | type | default | unit | meaning |
+//! |---|---|---|---|---|
+//! | `to_world` | transform | — | — | object-to-world transform (after an `instance`'s own) |
+//! | `flip_normals` | boolean | false | — | turn the normals the other way (an area light then emits from the other side) |
+//!
+//! `to_world` may be any invertible affine map (the disk becomes an ellipse under a non-uniform scale).
 //!
 //! UV convention (as Mitsuba 3): u = r (distance from the centre in local units), v = φ/(2π)
 //! with φ = atan2(y, x) wrapped to [0, 2π). dp/du is the radial direction, dp/dv = 2π·(−y, x, 0);
@@ -14,6 +18,18 @@
 //! space.
 use super::{area_to_solid_angle, Hit, ShapeSample, SurfaceInteraction};
 use crate::math::{warp, Bounds3, Frame, Ray, Transform, Vec2, Vec3, INV_2PI, PI};
+use crate::plugin::{declare, Args, SceneError};
+
+declare!(
+    /// The `disk` plugin.
+    pub(crate) PLUGIN: super::Parts, Transform = Shape "disk" []
+    "analytic unit disk, placed by `to_world`"
+    [super::PLACEMENT] load);
+
+fn load(a: &mut Args, parent: Transform) -> Result<super::Parts, SceneError> {
+    let (to_world, flip) = super::placement(a, &parent)?;
+    Ok(vec![(None, super::Shape::Disk(Disk::new(&to_world, flip)))])
+}
 
 /// A disk in world space.
 #[derive(Clone, Debug)]

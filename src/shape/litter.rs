@@ -13,26 +13,100 @@
 //! y. UVs: u along the leaf (0 at the stalk, 1 at the tip), v across it (0.5 on the midrib).
 //! Leaves are single sheets facing up: give them a `twosided` BSDF.
 //!
-//! | XML name      | type      | default | unit        | meaning                              |
-//! |---------------|-----------|---------|-------------|--------------------------------------|
-//! | `count`       | integer   | 100     | —           | number of leaves                     |
-//! | `size`        | float     | 0.06    | world units | mean leaf length                     |
-//! | `size_spread` | float     | 0.35    | of `size`   | relative spread of the lengths       |
-//! | `width`       | float     | 0.5     | of length   | leaf width                           |
-//! | `curl`        | float     | 0.25    | of half-width | how far the edges curl up          |
-//! | `arch`        | float     | 0.04    | of length   | arch along the leaf                  |
-//! | `lift`        | float     | 0.0005  | world units | height of the first leaf's base      |
-//! | `extent`      | float     | 0.5     | world units | half-size of the square covered      |
-//! | `clear`       | float     | 0       | world units | no leaf centred within this of the origin (room for a coiled snake) |
-//! | `seed`        | integer   | 0       | —           | changes the layout                   |
-//! | `to_world`    | transform | identity| —           | placement                            |
+//! ## Parameters
+//!
+//! | parameter | type | default | unit | meaning |
+//! |---|---|---|---|---|
+//! | `count` | integer | 100 | — | number of leaves; between 1 and 1000000 |
+//! | `size` | float | 0.06 | world units | mean leaf length; positive |
+//! | `size_spread` | float | 0.35 | of `size` | relative spread of the lengths; in [0, 1) |
+//! | `width` | float | 0.5 | of length | leaf width; in (0, 2] |
+//! | `curl` | float | 0.25 | of half-width | how far the edges curl up; between 0 and 1 |
+//! | `arch` | float | 0.04 | of length | arch along the leaf; between 0 and 1 |
+//! | `lift` | float | 0.0005 | world units | height of the first leaf's base (each later one a little higher); positive |
+//! | `extent` | float | 0.5 | world units | half-size of the square covered; positive |
+//! | `clear` | float | 0.0 | world units | no leaf centred within this of the origin (room for a coiled snake); in [0, 1000000) |
+//! | `seed` | integer | 0 | — | changes the layout; between 0 and 4294967295 |
+//! | `to_world` | transform | — | — | object-to-world transform (after an `instance`'s own) |
+//! | `flip_normals` | boolean | false | — | turn the normals the other way (an area light then emits from the other side) |
 //!
 //! Limits: leaves may pass through other objects lying on the ground (place the litter under
 //! them, where the intersection is hidden); no stalks, veins or holes (add them with a texture).
 
 use super::load::MeshData;
-use crate::math::{Pcg32, Vec2, Vec3};
+use crate::math::{Pcg32, Transform, Vec2, Vec3};
+use crate::plugin::{declare, Args, Check, Param, SceneError};
 use std::f32::consts::PI;
+
+declare!(
+    /// The `litter` plugin.
+    pub(crate) PLUGIN: super::Parts, Transform = Shape "litter" []
+    "fallen leaves: one mesh of curled leaf blades on the ground"
+    [&[
+        Param::int("count", 100).check(Check::Range(1.0, 1e6)).doc("number of leaves"),
+        Param::float("size", 0.06)
+            .check(Check::Positive)
+            .unit("world units")
+            .doc("mean leaf length"),
+        Param::float("size_spread", 0.35)
+            .check(Check::ClosedOpen(0.0, 1.0))
+            .unit("of `size`")
+            .doc("relative spread of the lengths"),
+        Param::float("width", 0.5)
+            .check(Check::OpenClosed(0.0, 2.0))
+            .unit("of length")
+            .doc("leaf width"),
+        Param::float("curl", 0.25)
+            .check(Check::Range(0.0, 1.0))
+            .unit("of half-width")
+            .doc("how far the edges curl up"),
+        Param::float("arch", 0.04)
+            .check(Check::Range(0.0, 1.0))
+            .unit("of length")
+            .doc("arch along the leaf"),
+        Param::float("lift", 0.0005)
+            .check(Check::Positive)
+            .unit("world units")
+            .doc("height of the first leaf's base (each later one a little higher)"),
+        Param::float("extent", 0.5)
+            .check(Check::Positive)
+            .unit("world units")
+            .doc("half-size of the square covered"),
+        Param::float("clear", 0.0)
+            .check(Check::ClosedOpen(0.0, 1e6))
+            .unit("world units")
+            .doc("no leaf centred within this of the origin (room for a coiled snake)"),
+        Param::int("seed", 0)
+            .check(Check::Range(0.0, 4294967295.0))
+            .doc("changes the layout"),
+    ], super::PLACEMENT] load);
+
+fn load(a: &mut Args, parent: Transform) -> Result<super::Parts, SceneError> {
+    let (to_world, flip) = super::placement(a, &parent)?;
+    let p = LitterParams {
+        count: a.int("count")? as u32,
+        size: a.float("size")?,
+        size_spread: a.float("size_spread")?,
+        width: a.float("width")?,
+        curl: a.float("curl")?,
+        arch: a.float("arch")?,
+        lift: a.float("lift")?,
+        extent: a.float("extent")?,
+        clear: a.float("clear")?,
+        seed: a.int("seed")? as u32,
+    };
+    let g = litter(&p);
+    let mesh = super::TriangleMesh::new(
+        g.positions,
+        g.normals,
+        g.uvs,
+        g.indices,
+        &to_world,
+        flip,
+        false,
+    );
+    super::one(a, mesh.map(super::Shape::Mesh))
+}
 
 /// Parameters of the litter (see the module header).
 #[derive(Clone, Debug, PartialEq)]

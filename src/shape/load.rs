@@ -7,6 +7,7 @@
 //! polygonal facets", JGT 3(1), 1998), computed in object space.
 use super::mesh::{MeshError, TriangleMesh};
 use crate::math::{Transform, Vec2, Vec3};
+use crate::plugin::{Args, DefaultValue, Param, SceneError, Ty};
 use std::path::{Path, PathBuf};
 
 /// Mesh arrays as read from a file, in object space.
@@ -199,6 +200,71 @@ pub fn smooth_normals(positions: &[Vec3], indices: &[[u32; 3]]) -> Vec<Vec3> {
             }
         })
         .collect()
+}
+
+/// What the mesh-file plugins (`obj`, `ply`, `serialized`) take besides their placement.
+pub(crate) const MESH_FILE: &[Param] = &[
+    Param::new("filename", Ty::String, DefaultValue::Required)
+        .doc("the mesh file, relative to the scene file"),
+    Param::bool("face_normals", false)
+        .doc("flat shading: ignore the file's normals and do not smooth"),
+];
+
+/// The mesh files a plugin reads.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum MeshFile {
+    Obj,
+    Ply,
+    Serialized,
+}
+
+/// Loads a mesh-file shape: a mesh of only zero-area triangles is skipped with a warning (as
+/// Mitsuba renders it), dropped degenerate triangles are reported.
+pub(crate) fn mesh_file(
+    a: &mut Args,
+    parent: &Transform,
+    kind: MeshFile,
+) -> Result<super::Parts, SceneError> {
+    let (to_world, flip) = super::placement(a, parent)?;
+    let path = a
+        .path("filename")?
+        .ok_or_else(|| a.error("filename", "is required"))?;
+    let opts = MeshOptions {
+        flip_normals: flip,
+        face_normals: a.bool("face_normals")?,
+        // Mitsuba 3 flips OBJ's v, not PLY's; serialized files are used as stored.
+        flip_tex_coords: kind != MeshFile::Serialized && a.bool("flip_tex_coords")?,
+    };
+    let mesh = match kind {
+        MeshFile::Obj => TriangleMesh::from_obj(&path, &to_world, &opts),
+        MeshFile::Ply => TriangleMesh::from_ply(&path, &to_world, &opts),
+        MeshFile::Serialized => {
+            let index = a.int("shape_index")? as u32;
+            TriangleMesh::from_serialized(&path, index, &to_world, &opts)
+        }
+    };
+    let mesh = match mesh {
+        Err(LoadError::Mesh {
+            source: MeshError::Empty { dropped },
+            ..
+        }) => {
+            let d = a.describe();
+            a.warn(format!(
+                "{d}: all {dropped} triangles of '{}' have zero area; the shape is skipped",
+                path.display()
+            ));
+            return Ok(Vec::new());
+        }
+        other => other.map_err(|e| a.error("filename", e))?,
+    };
+    if mesh.degenerate_dropped() > 0 {
+        let d = a.describe();
+        a.warn(format!(
+            "{d}: dropped {} degenerate triangles",
+            mesh.degenerate_dropped()
+        ));
+    }
+    Ok(vec![(None, super::Shape::Mesh(mesh))])
 }
 
 #[cfg(test)]

@@ -54,6 +54,7 @@ pub struct ShapeSample {
 }
 
 pub mod alias;
+pub mod cube;
 pub mod cylinder;
 pub mod disk;
 pub mod litter;
@@ -62,6 +63,7 @@ pub mod mesh;
 pub mod obj;
 pub mod ply;
 pub mod primitives;
+pub mod rectangle;
 pub mod serialized;
 pub mod snake;
 pub mod sphere;
@@ -223,4 +225,45 @@ pub(crate) fn positive_finite(x: f32) -> bool {
 /// Applies an object-to-world transform used by shapes (re-exported for loaders).
 pub fn transform_or_identity(t: Option<Transform>) -> Transform {
     t.unwrap_or(Transform::IDENTITY)
+}
+
+/// The shapes one `<shape>` element makes, each with the name of its part (`None` for a
+/// plain shape; a `snake` names its `body`, `belly`, `head` and `eyes`), or none at all.
+pub type Parts = Vec<(Option<&'static str>, Shape)>;
+
+/// `to_world` and `flip_normals`, which every shape plugin takes.
+pub(crate) const PLACEMENT: &[crate::plugin::Param] = &[
+    crate::plugin::Param::new(
+        "to_world",
+        crate::plugin::Ty::Transform,
+        crate::plugin::DefaultValue::None,
+    )
+    .doc("object-to-world transform (after an `instance`'s own)"),
+    crate::plugin::Param::bool("flip_normals", false)
+        .doc("turn the normals the other way (an area light then emits from the other side)"),
+];
+
+/// A shape's world placement (its `to_world` after `parent`, an instance's) and normal flip.
+pub(crate) fn placement(
+    a: &crate::plugin::Args,
+    parent: &Transform,
+) -> Result<(Transform, bool), crate::plugin::SceneError> {
+    Ok((
+        parent.compose(&a.transform("to_world")?),
+        a.bool("flip_normals")?,
+    ))
+}
+
+/// One plain shape, or the located error of building it.
+pub(crate) fn one<E: std::fmt::Display>(
+    a: &crate::plugin::Args,
+    shape: Result<Shape, E>,
+) -> Result<Parts, crate::plugin::SceneError> {
+    match shape {
+        Ok(s) => Ok(vec![(None, s)]),
+        Err(e) => Err(crate::plugin::SceneError::at(
+            &a.node().loc,
+            format!("{}: {e}", a.describe()),
+        )),
+    }
 }

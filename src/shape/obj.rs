@@ -1,5 +1,15 @@
 //! Wavefront OBJ reader (Mitsuba's `obj` shape; options in [`super::MeshOptions`]).
 //!
+//! ## Parameters
+//!
+//! | parameter | type | default | unit | meaning |
+//! |---|---|---|---|---|
+//! | `filename` | string | required | — | the mesh file, relative to the scene file |
+//! | `face_normals` | boolean | false | — | flat shading: ignore the file's normals and do not smooth |
+//! | `flip_tex_coords` | boolean | true | — | v ↦ 1 − v (Mitsuba 3 flips OBJ's, not PLY's) |
+//! | `to_world` | transform | — | — | object-to-world transform (after an `instance`'s own) |
+//! | `flip_normals` | boolean | false | — | turn the normals the other way (an area light then emits from the other side) |
+//!
 //! Reads `v x y z`, `vt u [v]`, `vn x y z` and `f` with corners `v`, `v/vt`, `v//vn` or
 //! `v/vt/vn`; indices are 1-based, negative indices count back from the latest element.
 //! Polygons are triangulated as fans around their first corner. `o`, `g`, `s`, `usemtl`,
@@ -11,9 +21,21 @@
 //! dropped for the whole mesh (flat shading), and corners without a `vt` get uv (0, 0).
 use super::load::{read_file, LoadError, MeshData};
 use crate::math::{Vec2, Vec3};
+use crate::plugin::{declare, Args, Param, SceneError};
 use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hasher};
 use std::path::Path;
+
+declare!(
+    /// The `obj` plugin.
+    pub(crate) PLUGIN: super::Parts, crate::math::Transform = Shape "obj" []
+    "Wavefront OBJ triangle mesh"
+    [super::load::MESH_FILE, &[Param::bool("flip_tex_coords", true)
+        .doc("v ↦ 1 − v (Mitsuba 3 flips OBJ's, not PLY's)")], super::PLACEMENT] load);
+
+fn load(a: &mut Args, parent: crate::math::Transform) -> Result<super::Parts, SceneError> {
+    super::load::mesh_file(a, &parent, super::load::MeshFile::Obj)
+}
 
 /// Reads an OBJ file.
 pub fn read_obj(path: &Path) -> Result<MeshData, LoadError> {

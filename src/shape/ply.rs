@@ -1,5 +1,15 @@
 //! Stanford PLY reader (Mitsuba's `ply` shape; options in [`super::MeshOptions`]).
 //!
+//! ## Parameters
+//!
+//! | parameter | type | default | unit | meaning |
+//! |---|---|---|---|---|
+//! | `filename` | string | required | — | the mesh file, relative to the scene file |
+//! | `face_normals` | boolean | false | — | flat shading: ignore the file's normals and do not smooth |
+//! | `flip_tex_coords` | boolean | false | — | v ↦ 1 − v (Mitsuba 3 flips OBJ's, not PLY's) |
+//! | `to_world` | transform | — | — | object-to-world transform (after an `instance`'s own) |
+//! | `flip_normals` | boolean | false | — | turn the normals the other way (an area light then emits from the other side) |
+//!
 //! Formats `ascii`, `binary_little_endian` and `binary_big_endian`. The `vertex` element must
 //! have `x y z`; `nx ny nz` and a UV pair (`u v`, `s t`, `texture_u texture_v` or
 //! `texture_s texture_t`) are read when present. Property types: `char uchar short ushort int
@@ -15,7 +25,19 @@
 //! elements are ignored.
 use super::load::{read_file, LoadError, MeshData};
 use crate::math::{Vec2, Vec3};
+use crate::plugin::{declare, Args, Param, SceneError};
 use std::path::{Path, PathBuf};
+
+declare!(
+    /// The `ply` plugin.
+    pub(crate) PLUGIN: super::Parts, crate::math::Transform = Shape "ply" []
+    "Stanford PLY triangle mesh (ASCII or binary)"
+    [super::load::MESH_FILE, &[Param::bool("flip_tex_coords", false)
+        .doc("v ↦ 1 − v (Mitsuba 3 flips OBJ's, not PLY's)")], super::PLACEMENT] load);
+
+fn load(a: &mut Args, parent: crate::math::Transform) -> Result<super::Parts, SceneError> {
+    super::load::mesh_file(a, &parent, super::load::MeshFile::Ply)
+}
 
 /// Reads a PLY file.
 pub fn read_ply(path: &Path) -> Result<MeshData, LoadError> {

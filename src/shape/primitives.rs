@@ -1,11 +1,5 @@
-//! Mitsuba's `rectangle` and `cube`, built as small triangle meshes.
-//!
-//! | plugin      | XML name       | type      | default  | meaning                         |
-//! |-------------|----------------|-----------|----------|---------------------------------|
-//! | `rectangle` | `to_world`     | transform | identity | places the local square         |
-//! | `rectangle` | `flip_normals` | boolean   | false    | normal along local −z           |
-//! | `cube`      | `to_world`     | transform | identity | places the local cube           |
-//! | `cube`      | `flip_normals` | boolean   | false    | normals point inwards           |
+//! Mitsuba's `rectangle` and `cube`, built as small triangle meshes (their plugins:
+//! [`super::rectangle`], [`super::cube`]).
 //!
 //! `rectangle`: the square [−1, 1]² in the local xy-plane at z = 0, normal +z, with UV (0, 0)
 //! at (−1, −1) and (1, 1) at (1, 1). `cube`: [−1, 1]³ with outward normals, 12 triangles, each

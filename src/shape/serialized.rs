@@ -1,12 +1,14 @@
 //! Mitsuba's compressed mesh format (`serialized` shape), versions 3 and 4 (Mitsuba 0.4–3.9).
 //!
-//! | XML name       | type      | default  | meaning                                             |
-//! |----------------|-----------|----------|-----------------------------------------------------|
-//! | `filename`     | string    | —        | the `.serialized` file                              |
-//! | `shape_index`  | integer   | 0        | which mesh of the file                              |
-//! | `face_normals` | boolean   | false    | flat shading (stored normals are ignored)           |
-//! | `flip_normals` | boolean   | false    | negate the normals                                  |
-//! | `to_world`     | transform | identity | object-to-world map                                 |
+//! ## Parameters
+//!
+//! | parameter | type | default | unit | meaning |
+//! |---|---|---|---|---|
+//! | `filename` | string | required | — | the mesh file, relative to the scene file |
+//! | `face_normals` | boolean | false | — | flat shading: ignore the file's normals and do not smooth |
+//! | `shape_index` | integer | 0 | — | which mesh of the file; between 0 and 4294967295 |
+//! | `to_world` | transform | — | — | object-to-world transform (after an `instance`'s own) |
+//! | `flip_normals` | boolean | false | — | turn the normals the other way (an area light then emits from the other side) |
 //!
 //! Layout (from Mitsuba's documentation and its `serialized.cpp`; everything little-endian):
 //! a file holds one or more meshes back to back, each a 2-byte magic `0x041C`, a 2-byte
@@ -30,9 +32,22 @@
 
 use super::load::{read_file, LoadError, MeshData};
 use crate::math::{Vec2, Vec3};
+use crate::plugin::{declare, Args, Check, Param, SceneError};
 use flate2::read::ZlibDecoder;
 use std::io::Read;
 use std::path::Path;
+
+declare!(
+    /// The `serialized` plugin.
+    pub(crate) PLUGIN: super::Parts, crate::math::Transform = Shape "serialized" []
+    "a mesh of Mitsuba's compressed format (versions 3 and 4)"
+    [super::load::MESH_FILE, &[Param::int("shape_index", 0)
+        .check(Check::Range(0.0, 4294967295.0))
+        .doc("which mesh of the file")], super::PLACEMENT] load);
+
+fn load(a: &mut Args, parent: crate::math::Transform) -> Result<super::Parts, SceneError> {
+    super::load::mesh_file(a, &parent, super::load::MeshFile::Serialized)
+}
 
 const MAGIC: u16 = 0x041C;
 const HAS_NORMALS: u32 = 0x0001;

@@ -55,33 +55,35 @@
 //! A pose that makes the body pass through itself (or bend tighter than it is wide) loads with
 //! a warning naming where (see `self_intersection`).
 //!
-//! | XML name          | type      | default | unit        | meaning                                  |
-//! |-------------------|-----------|---------|-------------|------------------------------------------|
-//! | `pose`            | string    | `s_curve` | —         | `s_curve` or `coil`                       |
-//! | `length`          | float     | 4       | world units | length along the centreline              |
-//! | `radius`          | float     | 0.06    | world units | largest body half-width                  |
-//! | `waves`           | float     | 1.25    | —           | `s_curve`: periods along the body        |
-//! | `amplitude`       | float     | 0.45    | world units | `s_curve`: sideways swing                |
-//! | `phase`           | float     | 0       | degrees     | `s_curve`: phase at the snout; `coil`: rotation |
-//! | `coil_radius`     | float     | 2       | of `radius` | `coil`: radius of the innermost turn     |
-//! | `coil_spacing`    | float     | 1.12    | of 2·`radius` | `coil`: distance between turns         |
-//! | `head_length`     | float     | 0.035   | of length   | snout to the back of the head (≤ 0.15)   |
-//! | `head_width`      | float     | 0.78    | of radius   | half-width at the jaw joint              |
-//! | `head_height`     | float     | 0.6     | of width    | height of the head over its width        |
-//! | `snout`           | float     | 0.3     | of head     | length over which the snout is rounded   |
-//! | `neck`            | float     | 0.74    | of radius   | half-width of the neck (≤ `head_width`)  |
-//! | `tail_length`     | float     | 0.1     | of length   | vent to the tail tip (≤ 0.5)             |
-//! | `flatten`         | float     | 0.25    | —           | belly height deficit (0 = round)         |
-//! | `belly_width`     | float     | 0.22    | of perimeter| width of the ventral plates' band        |
-//! | `eyes`            | boolean   | true    | —           | add the eyes                             |
-//! | `eye_size`        | float     | 0.12    | of head half-width | eye radius                        |
-//! | `roll`            | float     | 0       | degrees     | turn a stretch of the body about its centreline (shows the belly) |
-//! | `roll_at`         | float     | 0.5     | of length   | centre of the rolled stretch             |
-//! | `roll_span`       | float     | 0.25    | of length   | its length (eased in and out over its outer quarters) |
-//! | `segments_along`  | integer   | 800     | —           | rings along the body                     |
-//! | `segments_around` | integer   | 48      | —           | vertices around a ring                   |
-//! | `to_world`        | transform | identity| —           | placement                                |
-//! | `flip_normals`    | boolean   | false   | —           | normals inwards                          |
+//! ## Parameters
+//!
+//! | parameter | type | default | unit | meaning |
+//! |---|---|---|---|---|
+//! | `pose` | string | `s_curve` | — | how it lies; one of 's_curve', 'coil' |
+//! | `length` | float | 4.0 | world units | length along the centreline; positive |
+//! | `radius` | float | 0.06 | world units | largest body half-width; positive |
+//! | `waves` | float | 1.25 | — | `s_curve`: periods along the body |
+//! | `amplitude` | float | 0.45 | world units | `s_curve`: sideways swing |
+//! | `phase` | float | 0.0 | degrees | `s_curve`: phase at the snout; `coil`: rotation |
+//! | `coil_radius` | float | 2.0 | of `radius` | `coil`: radius of the innermost turn; in (0, 1000] |
+//! | `coil_spacing` | float | 1.12 | of 2·`radius` | `coil`: distance between turns; in (0, 1000] |
+//! | `head_length` | float | 0.035 | of length | snout to the back of the head; in (0, 0.15] |
+//! | `head_width` | float | 0.78 | of radius | half-width at the jaw joint; in (0, 2] |
+//! | `head_height` | float | 0.6 | of width | height of the head over its width; in (0, 1] |
+//! | `snout` | float | 0.3 | of head | length over which the snout is rounded; in (0, 1] |
+//! | `neck` | float | 0.74, at most `head_width` | of radius | half-width of the neck (at most `head_width`); in (0, 1] |
+//! | `tail_length` | float | 0.1 | of length | vent to the tail tip; in (0, 0.5] |
+//! | `flatten` | float | 0.25 | — | belly height deficit (0 = round); in [0, 0.9) |
+//! | `belly_width` | float | 0.22 | of perimeter | width of the ventral plates' band; in (0, 0.5] |
+//! | `eyes` | boolean | true | — | add the eyes |
+//! | `eye_size` | float | 0.12 | of head half-width | eye radius; in (0, 0.5] |
+//! | `roll` | float | 0.0 | degrees | turn a stretch of the body about its centreline (shows the belly); between -180 and 180 |
+//! | `roll_at` | float | 0.5 | of length | centre of the rolled stretch; between 0 and 1 |
+//! | `roll_span` | float | 0.25 | of length | its length (eased in and out over its outer quarters); in (0, 1] |
+//! | `segments_along` | integer | 800 | — | rings along the body; between 16 and 100000 |
+//! | `segments_around` | integer | 48 | — | vertices around a ring; between 12 and 4096 |
+//! | `to_world` | transform | — | — | object-to-world transform (after an `instance`'s own) |
+//! | `flip_normals` | boolean | false | — | turn the normals the other way (an area light then emits from the other side) |
 //!
 //! Proportions: a 1 m *Xenopeltis* has a head of ~3 cm and a tail ~10 % of its length
 //! (subcaudals are about a seventh of the ventrals' count), and is ~2.5–3 cm thick; the
@@ -101,8 +103,135 @@ mod profile;
 use super::load::MeshData;
 use super::mesh::{MeshError, TriangleMesh};
 use crate::math::Transform;
+use crate::plugin::{declare, Args, Check, DefaultValue, Param, SceneError, Ty};
 pub use crate::texture::head_shields::{EYE_OFFSET, EYE_V};
 use std::collections::HashMap;
+
+/// A fraction in (0, hi] of something (the manual's unit says of what).
+const fn part(name: &'static str, default: f32, hi: f64, unit: &'static str) -> Param {
+    Param::float(name, default)
+        .check(Check::OpenClosed(0.0, hi))
+        .unit(unit)
+}
+
+declare!(
+    /// The `snake` plugin: one shape per part (see the header).
+    pub(crate) PLUGIN: super::Parts, Transform = Shape "snake" []
+    "a procedural sunbeam snake on the ground, one mesh per part (body, belly, head, eyes)"
+    [&[
+        Param::string("pose", "s_curve")
+            .check(Check::OneOf(&["s_curve", "coil"]))
+            .doc("how it lies"),
+        Param::float("length", 4.0)
+            .check(Check::Positive)
+            .unit("world units")
+            .doc("length along the centreline"),
+        Param::float("radius", 0.06)
+            .check(Check::Positive)
+            .unit("world units")
+            .doc("largest body half-width"),
+        Param::float("waves", 1.25).doc("`s_curve`: periods along the body"),
+        Param::float("amplitude", 0.45)
+            .unit("world units")
+            .doc("`s_curve`: sideways swing"),
+        Param::float("phase", 0.0)
+            .unit("degrees")
+            .doc("`s_curve`: phase at the snout; `coil`: rotation"),
+        part("coil_radius", 2.0, 1e3, "of `radius`").doc("`coil`: radius of the innermost turn"),
+        part("coil_spacing", 1.12, 1e3, "of 2·`radius`").doc("`coil`: distance between turns"),
+        part("head_length", 0.035, 0.15, "of length").doc("snout to the back of the head"),
+        part("head_width", 0.78, 2.0, "of radius").doc("half-width at the jaw joint"),
+        part("head_height", 0.6, 1.0, "of width").doc("height of the head over its width"),
+        part("snout", 0.3, 1.0, "of head").doc("length over which the snout is rounded"),
+        Param::new("neck", Ty::Float, DefaultValue::Derived("0.74, at most `head_width`"))
+            .check(Check::OpenClosed(0.0, 1.0))
+            .unit("of radius")
+            .doc("half-width of the neck (at most `head_width`)"),
+        part("tail_length", 0.1, 0.5, "of length").doc("vent to the tail tip"),
+        Param::float("flatten", 0.25)
+            .check(Check::ClosedOpen(0.0, 0.9))
+            .doc("belly height deficit (0 = round)"),
+        part("belly_width", 0.22, 0.5, "of perimeter").doc("width of the ventral plates' band"),
+        Param::bool("eyes", true).doc("add the eyes"),
+        part("eye_size", 0.12, 0.5, "of head half-width").doc("eye radius"),
+        Param::float("roll", 0.0)
+            .check(Check::Range(-180.0, 180.0))
+            .unit("degrees")
+            .doc("turn a stretch of the body about its centreline (shows the belly)"),
+        Param::float("roll_at", 0.5)
+            .check(Check::Range(0.0, 1.0))
+            .unit("of length")
+            .doc("centre of the rolled stretch"),
+        part("roll_span", 0.25, 1.0, "of length")
+            .doc("its length (eased in and out over its outer quarters)"),
+        Param::int("segments_along", 800)
+            .check(Check::Range(16.0, 100_000.0))
+            .doc("rings along the body"),
+        Param::int("segments_around", 48)
+            .check(Check::Range(12.0, 4096.0))
+            .doc("vertices around a ring"),
+    ], super::PLACEMENT] load);
+
+fn load(a: &mut Args, parent: Transform) -> Result<super::Parts, SceneError> {
+    let (to_world, flip) = super::placement(a, &parent)?;
+    let pose = Pose::from_name(&a.string("pose")?).unwrap_or(Pose::SCurve);
+    let head_width = a.float("head_width")?;
+    let neck = match a.float_opt("neck")? {
+        Some(v) if v > head_width => {
+            let e = format!("must be at most head_width ({head_width}), got {v}");
+            return Err(a.error("neck", e));
+        }
+        Some(v) => v,
+        None => SnakeParams::default().neck.min(head_width),
+    };
+    let p = SnakeParams {
+        pose,
+        length: a.float("length")?,
+        radius: a.float("radius")?,
+        waves: a.float("waves")?,
+        amplitude: a.float("amplitude")?,
+        phase: a.float("phase")?.to_radians(),
+        coil_radius: a.float("coil_radius")?,
+        coil_spacing: a.float("coil_spacing")?,
+        head_length: a.float("head_length")?,
+        head_width,
+        head_height: a.float("head_height")?,
+        snout: a.float("snout")?,
+        neck,
+        tail_length: a.float("tail_length")?,
+        flatten: a.float("flatten")?,
+        belly_width: a.float("belly_width")?,
+        eyes: a.bool("eyes")?,
+        eye_size: a.float("eye_size")?,
+        roll: a.float("roll")?.to_radians(),
+        roll_at: a.float("roll_at")?,
+        roll_span: a.float("roll_span")?,
+        segments_along: a.int("segments_along")? as u32,
+        segments_around: a.int("segments_around")? as u32,
+    };
+    if let Some((s, t)) = self_intersection(&p, 2000) {
+        let what = if s == t {
+            format!(
+                "bends tighter than it is wide at {:.0} % of its length",
+                100.0 * s
+            )
+        } else {
+            format!(
+                "passes through itself between {:.0} % and {:.0} % of its length",
+                100.0 * s,
+                100.0 * t
+            )
+        };
+        let d = a.describe();
+        a.warn(format!("{d}: the body {what}"));
+    }
+    let parts = TriangleMesh::snake_parts(&p, &to_world, flip)
+        .map_err(|e| SceneError::at(&a.node().loc, format!("{}: {e}", a.describe())))?;
+    Ok(parts
+        .into_iter()
+        .map(|(part, mesh)| (Some(part.name()), super::Shape::Mesh(mesh)))
+        .collect())
+}
 
 /// How the snake lies.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

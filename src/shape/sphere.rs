@@ -1,11 +1,13 @@
 //! Analytic sphere.
 //!
-//! | XML name       | type      | default | meaning                                           |
-//! |----------------|-----------|---------|---------------------------------------------------|
-//! | `center`       | point     | (0,0,0) | centre in object space                            |
-//! | `radius`       | float     | 1       | radius in object space                            |
-//! | `to_world`     | transform | identity| similarity only: translation, rotation, uniform scale |
-//! | `flip_normals` | boolean   | false   | make the normal point inwards                     |
+//! ## Parameters
+//!
+//! | parameter | type | default | unit | meaning |
+//! |---|---|---|---|---|
+//! | `center` | point | (0, 0, 0) | object space | centre |
+//! | `radius` | float | 1.0 | object space | radius; positive |
+//! | `to_world` | transform | — | — | object-to-world transform (after an `instance`'s own) |
+//! | `flip_normals` | boolean | false | — | turn the normals the other way (an area light then emits from the other side) |
 //!
 //! The transform is folded into a world-space centre and radius; its rotation is kept so that
 //! texture coordinates turn with the sphere.
@@ -27,7 +29,32 @@ use super::{area_to_solid_angle, Hit, ShapeError, ShapeSample, SurfaceInteractio
 use crate::math::{
     safe_sqrt, warp, Bounds3, Frame, Mat3, Ray, Transform, Vec2, Vec3, INV_2PI, INV_PI, PI,
 };
+use crate::plugin::{declare, Args, Check, DefaultValue, Param, SceneError, Ty};
 use glam::DVec3;
+
+declare!(
+    /// The `sphere` plugin.
+    pub(crate) PLUGIN: super::Parts, Transform = Shape "sphere" []
+    "analytic sphere"
+    [&[
+        Param::new("center", Ty::Point, DefaultValue::Derived("(0, 0, 0)"))
+            .unit("object space")
+            .doc("centre"),
+        Param::float("radius", 1.0)
+            .check(Check::Positive)
+            .unit("object space")
+            .doc("radius"),
+    ], super::PLACEMENT] load);
+
+fn load(a: &mut Args, parent: Transform) -> Result<super::Parts, SceneError> {
+    let (to_world, flip) = super::placement(a, &parent)?;
+    let center = a.point_opt("center")?.unwrap_or(Vec3::ZERO);
+    let radius = a.float("radius")?;
+    super::one(
+        a,
+        Sphere::new(center, radius, &to_world, flip).map(super::Shape::Sphere),
+    )
+}
 
 /// A sphere in world space.
 #[derive(Clone, Debug)]

@@ -14,14 +14,18 @@
 //! so silhouettes stay round at any practical resolution) follow the radii. The seam vertices are
 //! computed from the same angle as their twins, so the mesh is watertight for rays.
 //!
-//! | XML name         | type      | default | unit        | meaning                          |
-//! |------------------|-----------|---------|-------------|----------------------------------|
-//! | `major_radius`   | float     | 1       | world units | axis to tube centre              |
-//! | `minor_radius`   | float     | 0.25    | world units | tube radius (< `major_radius`)   |
-//! | `segments_major` | integer   | 128·R/r (64…2048) | — | quads around the axis             |
-//! | `segments_minor` | integer   | 128     | —           | quads around the tube            |
-//! | `to_world`       | transform | identity| —           | any invertible affine map        |
-//! | `flip_normals`   | boolean   | false   | —           | normals into the tube            |
+//! ## Parameters
+//!
+//! | parameter | type | default | unit | meaning |
+//! |---|---|---|---|---|
+//! | `major_radius` | float | 1.0 | world units | axis to the tube's centre; positive |
+//! | `minor_radius` | float | 0.25 | world units | tube radius (less than `major_radius`); positive |
+//! | `segments_major` | integer | 128·R/r (64…2048) | — | quads around the axis; between 3 and 8192 |
+//! | `segments_minor` | integer | 128 | — | quads around the tube; between 3 and 4096 |
+//! | `to_world` | transform | — | — | object-to-world transform (after an `instance`'s own) |
+//! | `flip_normals` | boolean | false | — | turn the normals the other way (an area light then emits from the other side) |
+//!
+//! `to_world` may be any invertible affine map.
 //!
 //! Limits: not an exact quartic intersection (hits lie on the facets, within the sagitta above);
 //! horn and spindle tori (r ≥ R) are rejected.
@@ -29,7 +33,46 @@
 use super::load::MeshData;
 use super::mesh::{MeshError, TriangleMesh};
 use crate::math::{Transform, Vec2};
+use crate::plugin::{declare, Args, Check, DefaultValue, Param, SceneError, Ty};
 use std::f64::consts::TAU;
+
+declare!(
+    /// The `torus` plugin.
+    pub(crate) PLUGIN: super::Parts, Transform = Shape "torus" []
+    "a ring (a fine mesh with the analytic torus's normals and UVs)"
+    [&[
+        Param::float("major_radius", 1.0)
+            .check(Check::Positive)
+            .unit("world units")
+            .doc("axis to the tube's centre"),
+        Param::float("minor_radius", 0.25)
+            .check(Check::Positive)
+            .unit("world units")
+            .doc("tube radius (less than `major_radius`)"),
+        Param::new("segments_major", Ty::Integer, DefaultValue::Derived("128·R/r (64…2048)"))
+            .check(Check::Range(3.0, 8192.0))
+            .doc("quads around the axis"),
+        Param::int("segments_minor", DEFAULT_SEGMENTS_MINOR as i64)
+            .check(Check::Range(3.0, 4096.0))
+            .doc("quads around the tube"),
+    ], super::PLACEMENT] load);
+
+fn load(a: &mut Args, parent: Transform) -> Result<super::Parts, SceneError> {
+    let (to_world, flip) = super::placement(a, &parent)?;
+    let major = a.float("major_radius")?;
+    let minor = a.float("minor_radius")?;
+    if minor >= major {
+        let e = format!("must be less than major_radius ({major}), got {minor}");
+        return Err(a.error("minor_radius", e));
+    }
+    let nu = match a.int_opt("segments_major")? {
+        Some(n) => n as u32,
+        None => default_segments_major(major, minor),
+    };
+    let nv = a.int("segments_minor")? as u32;
+    let mesh = TriangleMesh::torus(major, minor, Some((nu, nv)), &to_world, flip);
+    super::one(a, mesh.map(super::Shape::Mesh))
+}
 
 /// Default quads around the tube.
 pub const DEFAULT_SEGMENTS_MINOR: u32 = 128;

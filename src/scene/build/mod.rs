@@ -3,7 +3,6 @@
 
 mod emitters;
 mod materials;
-mod procedural;
 mod shapes;
 pub use crate::plugin::values;
 

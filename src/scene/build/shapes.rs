@@ -1,5 +1,5 @@
-//! Shapes: Mitsuba's `sphere`, `disk`, `rectangle`, `cube`, `cylinder`, `obj`, `ply`,
-//! `serialized`, each with its BSDF (nested or `<ref>`; an emitter without one is black, and
+//! Shapes join the scene: every shape plugin (declared and loaded in its file under `shape/`)
+//! gives one shape or several parts, each with its BSDF (nested or `<ref>`; an emitter without one is black, and
 //! any other shape diffuse 0.5, as in Mitsuba 3) and optional area emitter; and
 //! `shapegroup` / `instance`, flattened at load: every instance adds a copy of the group's shapes
 //! moved by the instance's `to_world` (materials are shared; memory grows with the copies).
@@ -11,9 +11,10 @@ use super::emitters::area_light;
 use super::materials::material_for;
 use super::Builder;
 use crate::bsdf::Material;
-use crate::math::{Transform, Vec3};
+use crate::math::Transform;
+use crate::plugin::registry;
 use crate::scene::mitsuba::{Node, SceneError, Tag, Warning};
-use crate::shape::{Cylinder, LoadError, MeshError, MeshOptions, Shape, Sphere, TriangleMesh};
+use crate::shape::Parts;
 use crate::spectrum::Spectrum;
 use crate::texture::SpectrumTexture;
 use std::sync::Arc;
@@ -100,135 +101,29 @@ fn add_shape_at(
     parent: &Transform,
     warnings: &mut Vec<Warning>,
 ) -> Result<(), SceneError> {
-    let err =
-        |e: &dyn std::fmt::Display| SceneError::at(&node.loc, format!("{}: {e}", node.describe()));
-    let to_world = parent.compose(&node.props.get_transform("to_world", Transform::IDENTITY)?);
     match node.plugin.as_str() {
-        "instance" => return instance(b, node, &to_world, warnings),
+        "instance" => {
+            let to_world =
+                parent.compose(&node.props.get_transform("to_world", Transform::IDENTITY)?);
+            return instance(b, node, &to_world, warnings);
+        }
         // Built through the instances that refer to it.
         "shapegroup" => return Ok(()),
         _ => {}
     }
-    let flip = node.props.get_bool("flip_normals", false)?;
-    let shape = match node.plugin.as_str() {
-        "cylinder" => Shape::Cylinder(
-            Cylinder::new(
-                node.props.get_point("p0", Vec3::ZERO)?,
-                node.props.get_point("p1", Vec3::Z)?,
-                node.props.get_float("radius", 1.0)?,
-                &to_world,
-                flip,
-            )
-            .map_err(|e| err(&e))?,
-        ),
-        "sphere" => {
-            let center = node.props.get_point("center", Vec3::ZERO)?;
-            let radius = node.props.get_float("radius", 1.0)?;
-            if !(radius > 0.0 && radius.is_finite()) {
-                let loc = node.props.location("radius").unwrap_or(&node.loc);
-                return Err(SceneError::at(
-                    loc,
-                    format!(
-                        "radius of {} must be positive, got {radius}",
-                        node.describe()
-                    ),
-                ));
-            }
-            Shape::Sphere(Sphere::new(center, radius, &to_world, flip).map_err(|e| err(&e))?)
-        }
-        "disk" => Shape::Disk(crate::shape::Disk::new(&to_world, flip)),
-        "rectangle" => Shape::Mesh(TriangleMesh::rectangle(&to_world, flip).map_err(|e| err(&e))?),
-        "cube" => Shape::Mesh(TriangleMesh::cube(&to_world, flip).map_err(|e| err(&e))?),
-        "torus" => super::procedural::torus(node, &to_world, flip)?,
-        "litter" => super::procedural::litter(node, &to_world, flip)?,
-        "snake" => {
-            let parts = super::procedural::snake(node, &to_world, flip, warnings)?;
-            return add_parts(b, node, parts, warnings);
-        }
-        "obj" | "ply" | "serialized" => {
-            let Some(path) = node.props.get_path_opt("filename")? else {
-                return Err(SceneError::at(
-                    &node.loc,
-                    format!("{} needs a 'filename'", node.describe()),
-                ));
-            };
-            let opts = MeshOptions {
-                flip_normals: flip,
-                face_normals: node.props.get_bool("face_normals", false)?,
-                // Mitsuba 3 flips OBJ's v, not PLY's; serialized files are used as stored.
-                flip_tex_coords: node.plugin != "serialized"
-                    && node
-                        .props
-                        .get_bool("flip_tex_coords", node.plugin == "obj")?,
-            };
-            let loc = node
-                .props
-                .location("filename")
-                .cloned()
-                .unwrap_or_else(|| node.loc.clone());
-            let mesh = match node.plugin.as_str() {
-                "obj" => TriangleMesh::from_obj(&path, &to_world, &opts),
-                "ply" => TriangleMesh::from_ply(&path, &to_world, &opts),
-                _ => {
-                    let index =
-                        super::values::checked_int(node, "shape_index", 0, 0, u32::MAX as i64)?;
-                    TriangleMesh::from_serialized(&path, index as u32, &to_world, &opts)
-                }
-            };
-            let mesh = match mesh {
-                // A mesh of only zero-area triangles shows nothing: skip it, as Mitsuba
-                // renders it (real scenes have such leftovers).
-                Err(LoadError::Mesh {
-                    source: MeshError::Empty { dropped },
-                    ..
-                }) => {
-                    warnings.push(Warning {
-                        loc: node.loc.clone(),
-                        message: format!(
-                            "{}: all {dropped} triangles of '{}' have zero area; the shape is skipped",
-                            node.describe(),
-                            path.display()
-                        ),
-                    });
-                    return Ok(());
-                }
-                other => {
-                    other.map_err(|e| SceneError::at(&loc, format!("{}: {e}", node.describe())))?
-                }
-            };
-            if mesh.degenerate_dropped() > 0 {
-                warnings.push(Warning {
-                    loc: node.loc.clone(),
-                    message: format!(
-                        "{}: dropped {} degenerate triangles",
-                        node.describe(),
-                        mesh.degenerate_dropped()
-                    ),
-                });
-            }
-            Shape::Mesh(mesh)
-        }
-        other => {
-            warnings.push(Warning {
-                loc: node.loc.clone(),
-                message: format!("shape '{other}' is not supported by ophis and is ignored"),
-            });
-            return Ok(());
-        }
-    };
-
-    add_parts(b, node, vec![(None, shape)], warnings)
+    let parts = registry::shape(node, *parent, warnings)?;
+    add_parts(b, node, parts, warnings)
 }
 
 /// Adds the shapes made from one `<shape>` element, each part with the nested BSDF of its name
 /// (the unnamed one otherwise) and the element's emitter.
-fn add_parts<P: PartName>(
+fn add_parts(
     b: &mut Builder,
     node: &Node,
-    parts: Vec<(P, Shape)>,
+    parts: Parts,
     warnings: &mut Vec<Warning>,
 ) -> Result<(), SceneError> {
-    let part_names: Vec<&str> = parts.iter().filter_map(|(p, _)| p.part_name()).collect();
+    let part_names: Vec<&str> = parts.iter().filter_map(|(p, _)| *p).collect();
     let mut bsdf_node = None;
     let mut part_bsdfs: Vec<(&str, &std::sync::Arc<Node>)> = Vec::new();
     let mut emitter_node = None;
@@ -254,7 +149,7 @@ fn add_parts<P: PartName>(
     for (part, shape) in parts {
         let own = part_bsdfs
             .iter()
-            .find(|(n, _)| Some(*n) == part.part_name())
+            .find(|(n, _)| Some(*n) == part)
             .map(|(_, n)| *n);
         let material = match (own.or(bsdf_node), emitter_node) {
             (Some(n), _) => material_for(b, n, warnings)?,
@@ -281,27 +176,10 @@ fn add_parts<P: PartName>(
         b.shapes.push(shape);
         b.shape_material.push(material);
         b.shape_light.push(light);
-        b.shape_labels.push(match part.part_name() {
+        b.shape_labels.push(match part {
             Some(p) => format!("{label}.{p}"),
             None => label.clone(),
         });
     }
     Ok(())
-}
-
-/// The name of a part of a shape made of several (none for a plain shape).
-trait PartName {
-    fn part_name(&self) -> Option<&'static str>;
-}
-
-impl PartName for Option<crate::shape::snake::Part> {
-    fn part_name(&self) -> Option<&'static str> {
-        self.map(|p| p.name())
-    }
-}
-
-impl PartName for crate::shape::snake::Part {
-    fn part_name(&self) -> Option<&'static str> {
-        Some(self.name())
-    }
 }

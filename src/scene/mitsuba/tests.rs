@@ -223,7 +223,7 @@ fn unused_parameters_are_listed_exactly() {
         vec![
             (
                 4,
-                "parameter 'raduis' of shape 'sphere' (id 's') was never used".to_string()
+                "parameter 'raduis' of shape 'sphere' (id 's') was never used (did you mean 'radius'?)".to_string()
             ),
             (
                 6,

@@ -1,0 +1,23 @@
+//! Mitsuba's `rectangle`: the square [−1, 1]² in the local xy-plane, normal +z, as two triangles (the mesh is built in [`super::primitives`]).
+//!
+//! ## Parameters
+//!
+//! | parameter | type | default | unit | meaning |
+//! |---|---|---|---|---|
+//! | `to_world` | transform | — | — | object-to-world transform (after an `instance`'s own) |
+//! | `flip_normals` | boolean | false | — | turn the normals the other way (an area light then emits from the other side) |
+
+use super::{Parts, Shape, TriangleMesh};
+use crate::math::Transform;
+use crate::plugin::{declare, Args, SceneError};
+
+declare!(
+    /// The `rectangle` plugin.
+    pub(crate) PLUGIN: Parts, Transform = Shape "rectangle" []
+    "the square [−1, 1]² in the local xy-plane, normal +z, as two triangles"
+    [super::PLACEMENT] load);
+
+fn load(a: &mut Args, parent: Transform) -> Result<Parts, SceneError> {
+    let (to_world, flip) = super::placement(a, &parent)?;
+    super::one(a, TriangleMesh::rectangle(&to_world, flip).map(Shape::Mesh))
+}
