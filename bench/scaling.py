@@ -3,8 +3,8 @@
 
 Prints, each as median (min–max) over `--repeats`:
 
-1. Threads: render time of scenes/cornell-box.xml on 1 and on 2 threads, and the speed-up
-   (per repeat, the two runs back to back).
+1. Threads: render time of scenes/cornell-box.xml (at --thread-res, 256² by default) on 1 and
+   on 2 threads, and the speed-up (per repeat, the two runs back to back).
 2. Mesh size: scenes/cornell-mesh.xml with a lumpy blob of 10k, 1M and 4M triangles
    (bench/make_mesh.py, cached in target/bench/): render time and Msamples/s; with a BVH the time
    should grow like log n, so from 10k to 4M (×400) by a small factor only.
@@ -99,6 +99,8 @@ def main():
     ap.add_argument("--res", type=int, default=128)
     ap.add_argument("--spp", type=int, default=16)
     ap.add_argument("--repeats", type=int, default=3)
+    ap.add_argument("--thread-res", type=int, default=256,
+                    help="resolution of the threads test (at 128² its 16 tiles leave a thread idle)")
     ap.add_argument("--no-build", action="store_true")
     ap.add_argument("--no-mitsuba", action="store_true")
     a = ap.parse_args()
@@ -122,12 +124,12 @@ def main():
     box = os.path.join(ROOT, "scenes", "cornell-box.xml")
     t1, t2, sp = [], [], []
     for _ in range(a.repeats):
-        x = ophis(box, a.res, 2 * a.spp, {}, threads=1)[0]
-        y = ophis(box, a.res, 2 * a.spp, {}, threads=2)[0]
+        x = ophis(box, a.thread_res, 2 * a.spp, {}, threads=1)[0]
+        y = ophis(box, a.thread_res, 2 * a.spp, {}, threads=2)[0]
         t1.append(x)
         t2.append(y)
         sp.append(x / y)
-    print(f"\n1. threads (cornell-box, {2 * a.spp} spp): 1 thread {spread(t1)} s, 2 threads {spread(t2)} s, "
+    print(f"\n1. threads (cornell-box, {a.thread_res}², {2 * a.spp} spp): 1 thread {spread(t1)} s, 2 threads {spread(t2)} s, "
           f"speed-up {spread(sp)}×")
 
     # 2 and 4. Mesh size and memory.
