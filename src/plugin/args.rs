@@ -408,7 +408,11 @@ impl<'a> Args<'a> {
     /// The nested object given as `name` (a declared parameter), if any.
     pub fn child(&self, name: &str) -> Result<Option<&'a Arc<Node>>, SceneError> {
         let p = self.param(name)?;
-        Ok(self.present(p, name)?.and_then(|n| self.node.child(&n)))
+        // Asked for a nested object explicitly (a `phase_i` given as a number or as a
+        // `<phase>`): any spelling's child counts, whatever the value type.
+        Ok(Self::spellings(p, name)
+            .iter()
+            .find_map(|n| self.node.child(n)))
     }
 
     /// Builds a nested BSDF.

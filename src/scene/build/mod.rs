@@ -167,6 +167,17 @@ fn build_scene(
         }
     }
 
+    // Mitsuba builds every top-level object: a BSDF that nothing built (no shape or other BSDF
+    // uses it, e.g. one kept for `ophis bsdf --id`) is still checked — its mistakes are
+    // errors, its parameters read — and then dropped.
+    for child in &root.children {
+        let n = &child.node;
+        let untouched = n.props.unqueried().len() == n.props.len();
+        if n.tag == Tag::Bsdf && untouched && !b.material_ids.contains_key(&Arc::as_ptr(n)) {
+            materials::build_material(n, warnings)?;
+        }
+    }
+
     let (camera, width, height, filter, mut sampler) = match sensor {
         Some(s) => build_sensor(s, opts.resolution, warnings)?,
         None => {
