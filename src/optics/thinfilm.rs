@@ -129,19 +129,7 @@ pub fn film_r4(cos_theta0: f64, n0: F4, n1: F4, d_nm: f64, n2: F4, lambda_nm: F4
     let (_, cos2d) = super::simd4::sincos4(phase);
     std::array::from_fn(|i| {
         let (n0, n1, n2, c1, c2) = (n0[i], n1[i], n2[i], c1[i], c2[i]);
-        let airy = |r01: f64, r12: f64| {
-            let x = 2.0 * r01 * r12 * cos2d[i];
-            let r = (r01 * r01 + r12 * r12 + x) / (1.0 + r01 * r01 * r12 * r12 + x);
-            r.clamp(0.0, 1.0)
-        };
-        let r_s = airy(
-            (n0 * cos0 - n1 * c1) / (n0 * cos0 + n1 * c1),
-            (n1 * c1 - n2 * c2) / (n1 * c1 + n2 * c2),
-        );
-        let r_p = airy(
-            (n1 * cos0 - n0 * c1) / (n1 * cos0 + n0 * c1),
-            (n2 * c1 - n1 * c2) / (n2 * c1 + n1 * c2),
-        );
+        let (r_s, r_p) = airy_real(n0, n1, n2, cos0, c1, c2, cos2d[i]);
         0.5 * (r_s + r_p)
     })
 }
@@ -179,6 +167,26 @@ fn film_r_complex(cos_theta0: f64, n0: f64, n1: C, d_nm: f64, n2: C, lambda_nm: 
     0.5 * (fin(r_s) + fin(r_p))
 }
 
+/// R_s and R_p of a film with real amplitudes: indices `n0 | n1 | n2`, cosines `cos0`, `c1`,
+/// `c2` in them, and cos 2δ of the film's phase (shared by the scalar and 4-lane paths).
+#[inline(always)]
+fn airy_real(n0: f64, n1: f64, n2: f64, cos0: f64, c1: f64, c2: f64, cos2d: f64) -> (f64, f64) {
+    let airy = |r01: f64, r12: f64| {
+        let x = 2.0 * r01 * r12 * cos2d;
+        let r = (r01 * r01 + r12 * r12 + x) / (1.0 + r01 * r01 * r12 * r12 + x);
+        r.clamp(0.0, 1.0)
+    };
+    let r_s = airy(
+        (n0 * cos0 - n1 * c1) / (n0 * cos0 + n1 * c1),
+        (n1 * c1 - n2 * c2) / (n1 * c1 + n2 * c2),
+    );
+    let r_p = airy(
+        (n1 * cos0 - n0 * c1) / (n1 * cos0 + n0 * c1),
+        (n2 * c1 - n1 * c2) / (n2 * c1 + n1 * c2),
+    );
+    (r_s, r_p)
+}
+
 /// The common case in real arithmetic: real indices and a wave that propagates in the film and
 /// the base (no total internal reflection, no absorption). The amplitudes r01, r12 are then
 /// real and the Airy sum reduces to
@@ -207,19 +215,7 @@ fn film_rt_propagating(
     }
     let (c1, c2) = (c1sq.sqrt(), c2sq.sqrt());
     let cos2d = (4.0 * std::f64::consts::PI * n1 * d_nm * c1 / lambda_nm).cos();
-    let airy = |r01: f64, r12: f64| {
-        let x = 2.0 * r01 * r12 * cos2d;
-        let r = (r01 * r01 + r12 * r12 + x) / (1.0 + r01 * r01 * r12 * r12 + x);
-        r.clamp(0.0, 1.0)
-    };
-    let r_s = airy(
-        (n0 * cos0 - n1 * c1) / (n0 * cos0 + n1 * c1),
-        (n1 * c1 - n2 * c2) / (n1 * c1 + n2 * c2),
-    );
-    let r_p = airy(
-        (n1 * cos0 - n0 * c1) / (n1 * cos0 + n0 * c1),
-        (n2 * c1 - n1 * c2) / (n2 * c1 + n1 * c2),
-    );
+    let (r_s, r_p) = airy_real(n0, n1, n2, cos0, c1, c2, cos2d);
     Some(FilmRt {
         r_s,
         r_p,

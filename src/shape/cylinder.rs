@@ -29,7 +29,7 @@
 //! (Mitsuba only warns; ophis refuses, since area sampling would be wrong).
 use super::{area_to_solid_angle, Hit, ShapeError, ShapeSample, SurfaceInteraction};
 use crate::math::{Bounds3, Frame, Mat4, Ray, Transform, Vec2, Vec3, INV_2PI, PI};
-use crate::plugin::{declare, Args, Check, DefaultValue, Param, SceneError, Ty};
+use crate::plugin::{declare, Args, DefaultValue, Param, SceneError, Ty};
 use glam::{DVec2, DVec3};
 
 declare!(
@@ -43,10 +43,7 @@ declare!(
         Param::new("p1", Ty::Point, DefaultValue::Derived("(0, 0, 1)"))
             .unit("object space")
             .doc("end of the axis"),
-        Param::float("radius", 1.0)
-            .check(Check::Positive)
-            .unit("object space")
-            .doc("radius"),
+        super::RADIUS,
     ], super::PLACEMENT] load);
 
 fn load(a: &mut Args, parent: Transform) -> Result<super::Parts, SceneError> {

@@ -243,6 +243,12 @@ pub(crate) const PLACEMENT: &[crate::plugin::Param] = &[
         .doc("turn the normals the other way (an area light then emits from the other side)"),
 ];
 
+/// The `radius` of the analytic sphere and cylinder.
+pub(crate) const RADIUS: crate::plugin::Param = crate::plugin::Param::float("radius", 1.0)
+    .check(crate::plugin::Check::Positive)
+    .unit("object space")
+    .doc("radius");
+
 /// A shape's world placement (its `to_world` after `parent`, an instance's) and normal flip.
 pub(crate) fn placement(
     a: &crate::plugin::Args,

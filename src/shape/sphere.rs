@@ -29,7 +29,7 @@ use super::{area_to_solid_angle, Hit, ShapeError, ShapeSample, SurfaceInteractio
 use crate::math::{
     safe_sqrt, warp, Bounds3, Frame, Mat3, Ray, Transform, Vec2, Vec3, INV_2PI, INV_PI, PI,
 };
-use crate::plugin::{declare, Args, Check, DefaultValue, Param, SceneError, Ty};
+use crate::plugin::{declare, Args, DefaultValue, Param, SceneError, Ty};
 use glam::DVec3;
 
 declare!(
@@ -40,10 +40,7 @@ declare!(
         Param::new("center", Ty::Point, DefaultValue::Derived("(0, 0, 0)"))
             .unit("object space")
             .doc("centre"),
-        Param::float("radius", 1.0)
-            .check(Check::Positive)
-            .unit("object space")
-            .doc("radius"),
+        super::RADIUS,
     ], super::PLACEMENT] load);
 
 fn load(a: &mut Args, parent: Transform) -> Result<super::Parts, SceneError> {
