@@ -156,15 +156,39 @@ impl Bvh {
         ray: &Ray,
     ) -> Option<(Hit, SurfaceInteraction)> {
         let f = isa::closest(self.isa, self.view(), shapes, ray)?;
+        Some((self.hit(f), self.interaction(shapes, f, ray)))
+    }
+
+    /// [`Bvh::intersect_interaction`] for a batch of rays: `out[i]` for `rays[i]` (the two
+    /// slices must have the same length), with one instruction-set dispatch per 64 rays.
+    pub fn intersect_interaction_n(
+        &self,
+        shapes: &[Shape],
+        rays: &[Ray],
+        out: &mut [Option<SurfaceInteraction>],
+    ) {
+        assert_eq!(rays.len(), out.len());
+        let mut raw = [None; 64];
+        for (rs, os) in rays.chunks(64).zip(out.chunks_mut(64)) {
+            let raw = &mut raw[..rs.len()];
+            isa::closest_n(self.isa, self.view(), shapes, rs, raw);
+            for ((o, r), ray) in os.iter_mut().zip(raw.iter()).zip(rs) {
+                *o = r.map(|f| self.interaction(shapes, f, ray));
+            }
+        }
+    }
+
+    /// The surface geometry of a traversal's result.
+    #[inline]
+    fn interaction(&self, shapes: &[Shape], f: Found, ray: &Ray) -> SurfaceInteraction {
         let hit = self.hit(f);
-        let si = match &shapes[hit.shape as usize] {
+        match &shapes[hit.shape as usize] {
             Shape::Mesh(m) => {
                 let corners = self.blocks[f.block as usize].corners(f.lane as usize);
                 m.interaction_at(&hit, corners)
             }
             s => s.interaction(&hit, ray),
-        };
-        Some((hit, si))
+        }
     }
 
     /// Closest hits of a batch of rays: `hits[i]` for `rays[i]` (the two slices must have the
