@@ -175,6 +175,8 @@ pub fn render_with(
     );
     prepare_aovs(scene, film);
     let t0 = Instant::now();
+    let program = (opts.engine == Engine::Auto && wave::supports(scene))
+        .then(|| wave::WaveProgram::new(scene));
     let (w, h) = (scene.width, scene.height);
     let tiles = tiles(w, h, ctl.tile_order);
     let pixels_of = |(x0, y0): (u32, u32)| {
@@ -215,9 +217,9 @@ pub fn render_with(
                     return;
                 }
             }
-            let (acc, aov) = if opts.engine == Engine::Auto && wave::supports(scene) {
+            let (acc, aov) = if let Some(prog) = &program {
                 let ext = tile_extent(scene, x0, y0);
-                let acc = wave::render_tile(scene, (x0, y0), ext, (from, s1), opts.strategy);
+                let acc = wave::render_tile(scene, prog, (x0, y0), ext, (from, s1), opts.strategy);
                 (acc, Vec::new())
             } else {
                 render_tile(scene, x0, y0, from, s1, opts.strategy)

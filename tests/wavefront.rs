@@ -3,6 +3,7 @@
 //! meant to compute exactly what the scalar loop computes, path by path, only in another order
 //! (batched rays, lanes), so any difference at all is a defect.
 
+use ophis::accel::Isa;
 use ophis::film::Film;
 use ophis::integrator::PathStrategy;
 use ophis::render::{render, Engine, NoProgress, RenderOptions};
@@ -54,19 +55,26 @@ fn every_scene_renders_identically_with_both_engines() {
                 // the pool refills.
                 resolution: Some((40, 36)),
             };
-            let (scene, _) =
+            let (mut scene, _) =
                 load_scene(&root.join(&rel), &opts).unwrap_or_else(|e| panic!("{rel}: {e}"));
             let a = render_with(&scene, Engine::Scalar, 2);
-            let b = render_with(&scene, Engine::Auto, 2);
-            checked += 1;
-            if a.pixels != b.pixels {
-                let n = a
-                    .pixels
-                    .iter()
-                    .zip(&b.pixels)
-                    .filter(|(x, y)| x != y)
-                    .count();
-                differ.push(format!("{rel} {defines:?}: {n} pixels differ"));
+            // Every instruction-set variant of the lanes this CPU runs (eight lanes with AVX2
+            // or AVX-512, one lane on the baseline).
+            for isa in Isa::ALL {
+                if !scene.bvh.set_isa(isa) {
+                    continue;
+                }
+                let b = render_with(&scene, Engine::Auto, 2);
+                checked += 1;
+                if a.pixels != b.pixels {
+                    let n = a
+                        .pixels
+                        .iter()
+                        .zip(&b.pixels)
+                        .filter(|(x, y)| x != y)
+                        .count();
+                    differ.push(format!("{rel} {defines:?} {isa:?}: {n} pixels differ"));
+                }
             }
         }
     }

@@ -40,12 +40,12 @@ const SAFETY_DEPTH: u32 = 1024;
 /// The settings a path consults at every vertex.
 #[derive(Clone, Copy, Debug)]
 pub struct PathConfig {
-    max_depth: u32,
-    rr_depth: u32,
-    hide_emitters: bool,
-    strategy: PathStrategy,
-    use_nee: bool,
-    use_bsdf_hits: bool,
+    pub(crate) max_depth: u32,
+    pub(crate) rr_depth: u32,
+    pub(crate) hide_emitters: bool,
+    pub(crate) strategy: PathStrategy,
+    pub(crate) use_nee: bool,
+    pub(crate) use_bsdf_hits: bool,
 }
 
 impl PathConfig {
@@ -77,16 +77,22 @@ pub struct PathState {
     pub ray: Ray,
     /// Radiance gathered so far.
     pub l: SampledSpectrum,
-    beta: SampledSpectrum,
-    eta_scale: f32,
-    specular_bounce: bool,
-    prev_pdf: f32,
-    prev_ctx: LightSampleContext,
-    depth: u32,
-    null_crossings: u32,
+    /// Throughput.
+    pub(crate) beta: SampledSpectrum,
+    /// Product of η² over refractions (Russian roulette's correction).
+    pub(crate) eta_scale: f32,
+    /// Whether the last bounce was a delta lobe (or there was none yet).
+    pub(crate) specular_bounce: bool,
+    /// Solid-angle density of the last BSDF sample (for MIS at an emitter hit).
+    pub(crate) prev_pdf: f32,
+    /// The last vertex, as a light-sampling context.
+    pub(crate) prev_ctx: LightSampleContext,
+    /// Surfaces scattered at (null surfaces not counted).
+    pub(crate) depth: u32,
+    pub(crate) null_crossings: u32,
     /// Pixel footprint for texture filtering: the camera's estimate at the path length (no ray
     /// differentials yet; after a bounce this underestimates the footprint).
-    path_length: f32,
+    pub(crate) path_length: f32,
 }
 
 impl PathState {
