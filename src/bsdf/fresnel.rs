@@ -136,7 +136,22 @@ pub fn fresnel_dielectric_polarized(cos_theta_i: f32, eta: f32) -> (f32, f32, f3
 /// Unpolarised reflectance of a dielectric interface with relative index `eta`.
 #[inline]
 pub fn fresnel_dielectric(cos_theta_i: f32, eta: f32) -> f32 {
-    fresnel_dielectric_cos_t(cos_theta_i, eta).0
+    fresnel_dielectric_lanes(cos_theta_i, eta)
+}
+
+/// [`fresnel_dielectric`] on lanes (the operations of [`fresnel_dielectric_polarized`]).
+#[inline(always)]
+pub fn fresnel_dielectric_lanes<F: Float>(cos_theta_i: F, eta: F) -> F {
+    let one = F::splat(1.0);
+    let inside = cos_theta_i.lt(F::splat(0.0));
+    let cos_i = F::select(inside, -cos_theta_i, cos_theta_i).min(one);
+    let eta = F::select(inside, one / eta, eta);
+    let sin2_t = (one - cos_i * cos_i) / (eta * eta);
+    let cos_t = (one - sin2_t).max(F::splat(0.0)).sqrt();
+    let rs = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
+    let rp = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
+    let r = F::splat(0.5) * (rs * rs + rp * rp);
+    F::select(sin2_t.ge(one), one, r)
 }
 
 /// Unpolarised reflectance and the signed cosine of the refracted direction (see

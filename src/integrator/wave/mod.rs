@@ -26,6 +26,7 @@
 //! Lanes are eight wide on CPUs with AVX2 (the code is compiled for AVX2 and for AVX-512,
 //! chosen at run time like the accelerator's traversal) and one wide elsewhere.
 
+mod bsdf;
 mod pool;
 pub mod program;
 mod surface;

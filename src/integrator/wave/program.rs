@@ -6,24 +6,39 @@
 //! emitting a constant spectrum. Every other hit — and every escaped ray — is shaded by the
 //! scalar code of [`crate::integrator::path`], lane by lane.
 
-use crate::bsdf::Material;
+use crate::bsdf::material::{ConductorIor, Roughness};
+use crate::bsdf::microfacet::{MicrofacetDistribution, MicrofacetType};
+use crate::bsdf::{Interface, Material};
 use crate::light::Light;
 use crate::scene::Scene;
 use crate::shape::Shape;
 use crate::spectrum::Spectrum;
-use crate::texture::SpectrumTexture;
+use crate::texture::{FloatTexture, SpectrumTexture};
 
 /// How [`SpectrumTable`] entries are evaluated (see [`Spectrum::sample`]).
 pub(super) const SPEC_CONSTANT: u32 = 0;
 pub(super) const SPEC_ALBEDO: u32 = 1;
 pub(super) const SPEC_UNBOUNDED: u32 = 2;
 pub(super) const SPEC_ILLUMINANT: u32 = 3;
+pub(super) const SPEC_CURVE: u32 = 4;
 
-/// Spectra the lanes can evaluate: a constant, or an RGB uplift (Jakob–Hanika sigmoid
-/// polynomial) with its scale and, for emission, the D65 factor.
+/// Material kinds of the lanes.
+pub(super) const MAT_DIFFUSE: u32 = 0;
+/// `dielectric` (smooth).
+pub(super) const MAT_DIELECTRIC: u32 = 1;
+/// `conductor` (smooth, including the perfect mirror).
+pub(super) const MAT_CONDUCTOR: u32 = 2;
+/// `roughconductor` with GGX.
+pub(super) const MAT_ROUGH_CONDUCTOR: u32 = 3;
+
+/// Spectra the lanes can evaluate: a constant, an RGB uplift (Jakob–Hanika sigmoid
+/// polynomial) with its scale and, for emission, the D65 factor, or a tabulated curve.
 #[derive(Debug, Default)]
 pub(super) struct SpectrumTable {
     pub(super) mode: Vec<u32>,
+    /// Tabulated curves (`SPEC_CURVE` entries hold their index in `c0`'s place: `curve`).
+    pub(super) curves: Vec<std::sync::Arc<crate::spectrum::spectra::PiecewiseLinear>>,
+    pub(super) curve: Vec<u32>,
     /// The constant's value, or the polynomial's c0.
     pub c0: Vec<f32>,
     pub c1: Vec<f32>,
@@ -34,6 +49,7 @@ pub(super) struct SpectrumTable {
 impl SpectrumTable {
     /// Adds `s`; `None` for spectra the lanes cannot evaluate (tabulated, blackbody).
     fn add(&mut self, s: &Spectrum) -> Option<u32> {
+        let mut curve = 0;
         let (mode, c, scale) = match s {
             Spectrum::Constant(v) => (SPEC_CONSTANT, [*v, 0.0, 0.0], 1.0),
             Spectrum::RgbAlbedo(p) => (SPEC_ALBEDO, [p.c0, p.c1, p.c2], 1.0),
@@ -43,8 +59,14 @@ impl SpectrumTable {
             Spectrum::RgbIlluminant { scale, poly } => {
                 (SPEC_ILLUMINANT, [poly.c0, poly.c1, poly.c2], *scale)
             }
-            Spectrum::PiecewiseLinear(_) | Spectrum::Blackbody { .. } => return None,
+            Spectrum::PiecewiseLinear(p) => {
+                curve = self.curves.len() as u32;
+                self.curves.push(p.clone());
+                (SPEC_CURVE, [0.0; 3], 1.0)
+            }
+            Spectrum::Blackbody { .. } => return None,
         };
+        self.curve.push(curve);
         self.mode.push(mode);
         self.c0.push(c[0]);
         self.c1.push(c[1]);
@@ -65,8 +87,8 @@ pub struct Program {
     pub(super) shape_mat: Vec<u32>,
     /// Per shape: 1 + the light it is, or 0.
     pub(super) shape_emit: Vec<u32>,
-    /// Per material: the spectrum entry of its reflectance.
-    pub(super) mat_spec: Vec<u32>,
+    /// The materials the lanes implement.
+    pub(super) mats: MaterialTable,
     /// Per light: 1 for an area light on a triangle mesh with a spectrum the lanes evaluate
     /// (sampled and evaluated in lanes).
     pub(super) light_lanes: Vec<u32>,
@@ -108,18 +130,10 @@ impl Program {
                 light_flip[i] = m.flips_normals() as u32;
             }
         }
-        let mut mat_spec = Vec::new();
+        let mut mats = MaterialTable::default();
         let mut mat_index = vec![None; scene.materials.len()];
         for (i, m) in scene.materials.iter().enumerate() {
-            if let Material::Diffuse {
-                reflectance: SpectrumTexture::Constant(s),
-            } = m
-            {
-                if let Some(e) = spectra.add(s) {
-                    mat_index[i] = Some(mat_spec.len() as u32);
-                    mat_spec.push(e);
-                }
-            }
+            mat_index[i] = mats.add(m, &mut spectra);
         }
         let n_shapes = scene.shapes.len();
         let mut shape_lanes = vec![0; n_shapes];
@@ -137,8 +151,8 @@ impl Program {
             }
         }
         // Lanes that do not use a table still gather from it (at index 0).
-        if mat_spec.is_empty() {
-            mat_spec.push(0);
+        if mats.kind.is_empty() {
+            mats.push(MAT_DIFFUSE, [0; 4], [0.0; 4]);
         }
         if spectra.mode.is_empty() {
             spectra.add(&Spectrum::Constant(0.0));
@@ -157,7 +171,7 @@ impl Program {
             shape_mesh,
             shape_mat,
             shape_emit,
-            mat_spec,
+            mats,
             light_lanes,
             light_pmf,
             light_spec,
@@ -165,6 +179,82 @@ impl Program {
             light_shape,
             light_flip,
             spectra,
+        }
+    }
+}
+
+/// Per lane material: its kind (`MAT_*`), four spectrum entries and four numbers:
+///
+/// | kind | spectra | numbers |
+/// |---|---|---|
+/// | diffuse | reflectance | — |
+/// | dielectric | specular reflectance, specular transmittance | η |
+/// | conductor | specular reflectance, η, k (mirror: none) | exterior index, mirror flag (1) |
+/// | rough conductor | as conductor | as conductor, then α_u, α_v |
+#[derive(Debug, Default)]
+pub(super) struct MaterialTable {
+    pub(super) kind: Vec<u32>,
+    pub(super) spec: [Vec<u32>; 4],
+    pub(super) num: [Vec<f32>; 4],
+}
+
+impl MaterialTable {
+    fn push(&mut self, kind: u32, spec: [u32; 4], num: [f32; 4]) -> u32 {
+        self.kind.push(kind);
+        for k in 0..4 {
+            self.spec[k].push(spec[k]);
+            self.num[k].push(num[k]);
+        }
+        self.kind.len() as u32 - 1
+    }
+
+    /// Adds `m` if the lanes implement it.
+    fn add(&mut self, m: &Material, spectra: &mut SpectrumTable) -> Option<u32> {
+        let constant = |t: &SpectrumTexture| match t {
+            SpectrumTexture::Constant(s) => Some(s.clone()),
+            _ => None,
+        };
+        match m {
+            Material::Diffuse { reflectance } => {
+                let r = spectra.add(&constant(reflectance)?)?;
+                Some(self.push(MAT_DIFFUSE, [r, 0, 0, 0], [0.0; 4]))
+            }
+            Material::Surface(s) => {
+                let r_s = spectra.add(&constant(&s.specular_reflectance)?)?;
+                let t_s = spectra.add(&constant(&s.specular_transmittance)?)?;
+                let metal = |ior: &Option<ConductorIor>, spectra: &mut SpectrumTable| match ior {
+                    None => Some(([0, 0], [1.0, 1.0])),
+                    Some(c) => Some(([spectra.add(&c.eta)?, spectra.add(&c.k)?], [c.ext_ior, 0.0])),
+                };
+                let alphas = |r: &Roughness| match (&r.alpha_u, &r.alpha_v, r.distribution) {
+                    (FloatTexture::Constant(u), FloatTexture::Constant(v), MicrofacetType::Ggx) => {
+                        Some((*u, *v))
+                    }
+                    _ => None,
+                };
+                match (&s.interface, &s.rough) {
+                    (Interface::Dielectric { eta }, None) => {
+                        Some(self.push(MAT_DIELECTRIC, [r_s, t_s, 0, 0], [*eta, 0.0, 0.0, 0.0]))
+                    }
+                    (Interface::Conductor(ior), None) => {
+                        let ([e, k], [ext, mirror]) = metal(ior, spectra)?;
+                        Some(self.push(MAT_CONDUCTOR, [r_s, e, k, 0], [ext, mirror, 0.0, 0.0]))
+                    }
+                    (Interface::Conductor(ior), Some(r)) => {
+                        let (au, av) = alphas(r)?;
+                        let ([e, k], [ext, mirror]) = metal(ior, spectra)?;
+                        // The distribution clamps its roughness (see `MicrofacetDistribution`).
+                        let d = MicrofacetDistribution::new(MicrofacetType::Ggx, au, av);
+                        Some(self.push(
+                            MAT_ROUGH_CONDUCTOR,
+                            [r_s, e, k, 0],
+                            [ext, mirror, d.alpha_x, d.alpha_y],
+                        ))
+                    }
+                    _ => None,
+                }
+            }
+            _ => None,
         }
     }
 }

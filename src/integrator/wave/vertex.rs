@@ -11,17 +11,18 @@
 //! Parts that need a different table per lane (a triangle's corners and UVs, the light picked,
 //! a point on its triangle) are fetched lane by lane; the arithmetic runs in lanes.
 
+use super::bsdf::LaneBsdf;
 use super::pool::{Pool, Spectra, MISS};
 use super::program::{
-    Program, SpectrumTable, SPEC_ALBEDO, SPEC_CONSTANT, SPEC_ILLUMINANT, SPEC_UNBOUNDED,
+    Program, SpectrumTable, SPEC_ALBEDO, SPEC_CONSTANT, SPEC_CURVE, SPEC_ILLUMINANT, SPEC_UNBOUNDED,
 };
 use super::{surface, Shadows};
 use crate::integrator::path::{PathConfig, PathStrategy};
 use crate::light::LightSampleContext;
 use crate::math::frame::FrameL;
 use crate::math::ray::{spawn_origin, spawn_to};
-use crate::math::warp::{cosine_hemisphere, cosine_hemisphere_pdf, uniform_triangle};
-use crate::math::{power_heuristic_lanes, Vec2, INV_PI};
+use crate::math::warp::uniform_triangle;
+use crate::math::{power_heuristic_lanes, Vec2};
 use crate::sampler::{Sampler, SamplerKind};
 use crate::scene::Scene;
 use crate::shape::{area_to_solid_angle_lanes, Shape};
@@ -39,7 +40,7 @@ pub(super) struct Ctx<'a> {
 }
 
 /// A spectrum at the path's four wavelengths, in lanes.
-type Spec<F> = [F; 4];
+pub(super) type Spec<F> = [F; 4];
 
 /// `[e(0), e(1), e(2), e(3)]` for an expression `e` of `k`. Not a closure: a closure is
 /// compiled as a function of its own, without the caller's instruction set, and unless it
@@ -115,14 +116,14 @@ fn store_spec_masked<F: Float>(a: &mut Spectra, base: usize, m: F::M, v: Spec<F>
 
 /// Whether every component is zero, per lane ([`SampledSpectrum::is_black`]).
 #[inline(always)]
-fn is_black<F: Float>(s: &Spec<F>) -> F::M {
+pub(super) fn is_black<F: Float>(s: &Spec<F>) -> F::M {
     let z = F::splat(0.0);
     s[0].eq(z) & s[1].eq(z) & s[2].eq(z) & s[3].eq(z)
 }
 
 /// Whether every component is finite, per lane.
 #[inline(always)]
-fn is_finite<F: Float>(s: &Spec<F>) -> F::M {
+pub(super) fn is_finite<F: Float>(s: &Spec<F>) -> F::M {
     s[0].is_finite() & s[1].is_finite() & s[2].is_finite() & s[3].is_finite()
 }
 
@@ -151,7 +152,7 @@ fn draw<F: Float>(pool: &mut Pool, base: usize, m: F::M, kind: SamplerKind) -> F
 
 /// Table spectra at the lanes' wavelengths ([`crate::spectrum::Spectrum::sample`]).
 #[inline(always)]
-fn eval_spectrum<F: Float>(t: &SpectrumTable, idx: F::I, lambda: &Spec<F>) -> Spec<F> {
+pub(super) fn eval_spectrum<F: Float>(t: &SpectrumTable, idx: F::I, lambda: &Spec<F>) -> Spec<F> {
     let mode = F::I::gather(&t.mode, idx);
     let (c0, c1, c2) = (
         F::gather(&t.c0, idx),
@@ -174,6 +175,21 @@ fn eval_spectrum<F: Float>(t: &SpectrumTable, idx: F::I, lambda: &Spec<F>) -> Sp
         }
         let v = F::select(albedo, s, v);
         *o = F::select(constant, c0, v);
+    }
+    let curves = mode.eq(F::I::splat(SPEC_CURVE as i32));
+    if curves.any() {
+        // Tabulated curves, one distinct curve at a time.
+        let curve = F::I::gather(&t.curve, idx);
+        let mut todo = curves.bits();
+        while todo != 0 {
+            let c = curve.lane(todo.trailing_zeros() as usize);
+            let this = curves & curve.eq(F::I::splat(c));
+            let pl = &t.curves[c as usize];
+            for (o, &l) in out.iter_mut().zip(lambda) {
+                *o = F::select(this, pl.eval_lanes(l), *o);
+            }
+            todo &= !this.bits();
+        }
     }
     out
 }
@@ -302,69 +318,66 @@ fn vector_vertex<F: Float>(
     store_masked_int::<F>(&mut pool.depth, base, m, depth);
     let mut alive = m.and_not(depth.gt(F::I::splat(cfg.max_depth as i32 - 1)));
 
-    // The BSDF: diffuse reflectance (the only lane material so far).
+    // The BSDF at the hit.
     let mat = F::I::gather(&prog.shape_mat, shape);
-    let r = eval_spectrum(&prog.spectra, F::I::gather(&prog.mat_spec, mat), &lambda);
-    let r = spec!(k => r[k].clamp(0.0, 1.0));
     let frame = FrameL::from_normal_tangent(ns, dpdu);
-    alive = alive.and_not(is_black(&r));
-    let f_diffuse = spec!(k => r[k] * F::splat(INV_PI));
+    let bsdf = LaneBsdf::new(prog, alive, mat, &lambda);
+    alive = alive.and_not(bsdf.none());
     let wo_l = frame.to_local(wo);
 
-    // Next-event estimation.
+    // Next-event estimation. The light sample's dimensions are drawn at every vertex.
     let u_light = draw::<F>(pool, base, alive, c.kind);
     let u0 = draw::<F>(pool, base, alive, c.kind);
     let u1 = draw::<F>(pool, base, alive, c.kind);
-    if cfg.use_nee && alive.any() {
+    let nee = alive & bsdf.non_specular();
+    if cfg.use_nee && nee.any() {
         let wl_pdf = load_spec::<F>(&pool.wl_pdf, base);
-        let ls = sample_lights(c, alive, p, ng, u_light, u0, u1, &lambda, &wl_pdf);
+        let ls = sample_lights(c, nee, p, ng, u_light, u0, u1, &lambda, &wl_pdf);
         let wi_l = frame.to_local(ls.wi);
-        // As the scalar tests `wo.z <= 0 || wi.z <= 0` (a NaN passes).
-        let up = !(wo_l.z.le(zero) | wi_l.z.le(zero));
+        let (f, bsdf_pdf) = bsdf.f_pdf(wo_l, wi_l);
         let cos = ls.wi.dot(frame.n).abs();
-        let f = spec!(k => F::select(up, f_diffuse[k], zero) * cos);
-        let ok = ls.valid & ls.pdf.gt(zero);
+        let f = spec!(k => f[k] * cos);
+        let ok = nee & ls.valid & ls.pdf.gt(zero);
         let ok = ok.and_not(is_black(&ls.l)).and_not(is_black(&f));
         if ok.any() {
             let light_pdf = ls.pmf * ls.pdf;
             let w = if cfg.strategy == PathStrategy::LightOnly {
                 one
             } else {
-                let bsdf_pdf = F::select(up, cosine_hemisphere_pdf(wi_l.z), zero);
                 F::select(ls.delta, one, power_heuristic_lanes(light_pdf, bsdf_pdf))
             };
             let (so, sd, st) = spawn_to(p, ng, ls.p_light);
             let contrib: Spec<F> = spec!(k => beta[k] * f[k] * ls.l[k] * (w / light_pdf));
             for i in lanes(ok.bits()) {
-                shadows.push(
-                    (base + i) as u32,
-                    crate::math::Ray {
-                        o: so.lane(i),
-                        d: sd.lane(i),
-                        t_max: st.lane(i),
-                    },
-                    SampledSpectrum(std::array::from_fn(|k| contrib[k].lane(i))),
-                );
+                let c = spec!(k => contrib[k].lane(i));
+                let ray = crate::math::Ray {
+                    o: so.lane(i),
+                    d: sd.lane(i),
+                    t_max: st.lane(i),
+                };
+                shadows.push((base + i) as u32, ray, SampledSpectrum(c));
             }
         }
     }
 
     // BSDF sampling.
-    let _uc = draw::<F>(pool, base, alive, c.kind);
+    let uc = draw::<F>(pool, base, alive, c.kind);
     let u0 = draw::<F>(pool, base, alive, c.kind);
     let u1 = draw::<F>(pool, base, alive, c.kind);
-    let wi = cosine_hemisphere(u0, u1);
-    let pdf = cosine_hemisphere_pdf(wi.z);
-    let sampled = !wo_l.z.le(zero) & pdf.gt(zero) & is_finite(&f_diffuse) & wi.z.ne(zero);
-    alive = alive & sampled;
-    let wi = frame.to_world(wi);
+    let bs = bsdf.sample(alive, wo_l, uc, u0, u1);
+    alive = alive & bs.ok;
+    let wi = frame.to_world(bs.wi);
     let cos = wi.dot(frame.n).abs();
-    for k in 0..4 {
-        beta[k] = F::select(alive, beta[k] * (f_diffuse[k] * (cos / pdf)), beta[k]);
+    for (b, &f) in beta.iter_mut().zip(&bs.f) {
+        *b = F::select(alive, *b * (f * (cos / bs.pdf)), *b);
     }
     alive = alive & is_finite(&beta);
-    store_masked(&mut pool.prev_pdf, base, alive, pdf);
-    store_masked_int::<F>(&mut pool.specular, base, alive, F::I::splat(0));
+    let specular_i = F::I::select(bs.specular, F::I::splat(1), F::I::splat(0));
+    let eta_scale = F::load(&pool.eta_scale[base..]);
+    let eta_scale = F::select(bs.transmission, eta_scale * (bs.eta * bs.eta), eta_scale);
+    store_masked(&mut pool.eta_scale, base, alive, eta_scale);
+    store_masked(&mut pool.prev_pdf, base, alive, bs.pdf);
+    store_masked_int::<F>(&mut pool.specular, base, alive, specular_i);
     store3_masked(&mut pool.prev_p, base, alive, p);
     store3_masked(&mut pool.prev_n, base, alive, ng);
     store3_masked(&mut pool.o, base, alive, spawn_origin(p, ng, wi));
@@ -374,7 +387,6 @@ fn vector_vertex<F: Float>(
     // Russian roulette on the throughput, corrected for radiance compression at refraction.
     let roulette = alive & depth.gt(F::I::splat(cfg.rr_depth as i32 - 1));
     if roulette.any() {
-        let eta_scale = F::load(&pool.eta_scale[base..]);
         let max = F::splat(f32::NEG_INFINITY)
             .max(beta[0])
             .max(beta[1])
