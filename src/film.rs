@@ -13,6 +13,7 @@
 //! | `rfilter`       | child   | gaussian| `box`, `tent` (radius 1) or `gaussian` (`stddev` 0.5, radius 4σ) |
 
 use crate::math::Vec2;
+use crate::simd::{Float, Int};
 use crate::spectrum::{cie, SampledSpectrum, SampledWavelengths, N};
 
 /// A separable pixel reconstruction filter.
@@ -74,21 +75,32 @@ impl Filter {
     /// Samples a 1D offset from the filter's normalised profile.
     #[inline]
     fn sample_1d(&self, u: f32) -> f32 {
+        self.sample_1d_lanes(u)
+    }
+
+    /// [`Filter::sample`]'s 1D offset on lanes.
+    #[inline(always)]
+    pub fn sample_1d_lanes<F: Float>(&self, u: F) -> F {
+        let one = F::splat(1.0);
+        let two = F::splat(2.0);
         match self {
-            Filter::Box => u - 0.5,
+            Filter::Box => u - F::splat(0.5),
             Filter::Tent { radius } => {
                 // Inverse CDF of the triangle on [−r, r].
-                if u < 0.5 {
-                    radius * ((2.0 * u).sqrt() - 1.0)
-                } else {
-                    radius * (1.0 - (2.0 - 2.0 * u).max(0.0).sqrt())
-                }
+                let r = F::splat(*radius);
+                let lo = r * ((two * u).sqrt() - one);
+                let hi = r * (one - (two - two * u).max(F::splat(0.0)).sqrt());
+                F::select(u.lt(F::splat(0.5)), lo, hi)
             }
             Filter::Gaussian { inv_cdf, .. } => {
-                let x = u * GAUSS_TABLE as f32;
-                let i = (x as usize).min(GAUSS_TABLE - 1);
-                let t = x - i as f32;
-                inv_cdf[i] + t * (inv_cdf[i + 1] - inv_cdf[i])
+                let x = u * F::splat(GAUSS_TABLE as f32);
+                let last = F::I::splat(GAUSS_TABLE as i32 - 1);
+                let i = x.to_int();
+                let i = F::I::select(i.gt(last), last, i);
+                let t = x - F::from_int(i);
+                let a = F::gather(inv_cdf, i);
+                let b = F::gather(inv_cdf, i + F::I::splat(1));
+                a + t * (b - a)
             }
         }
     }
@@ -104,19 +116,24 @@ impl Filter {
 /// ∫ L(λ) x̄(λ) dλ / ∫ ȳ, averaging the hero and secondary wavelengths).
 #[inline]
 pub fn spectrum_to_xyz(l: &SampledSpectrum, wl: &SampledWavelengths) -> [f32; 3] {
-    let mut xyz = [0.0f32; 3];
+    spectrum_to_xyz_lanes(&l.0, &wl.lambda, &wl.pdf)
+}
+
+/// [`spectrum_to_xyz`] on lanes.
+#[inline(always)]
+pub fn spectrum_to_xyz_lanes<F: Float>(l: &[F; N], lambda: &[F; N], pdf: &[F; N]) -> [F; 3] {
+    let zero = F::splat(0.0);
+    let mut xyz = [zero; 3];
     for i in 0..N {
-        if wl.pdf[i] <= 0.0 {
-            continue;
+        let used = !pdf[i].le(zero);
+        let b = cie::xyz_bar_lanes(lambda[i]);
+        let w = l[i] / pdf[i];
+        for (v, b) in xyz.iter_mut().zip(b) {
+            *v = F::select(used, *v + b * w, *v);
         }
-        let b = cie::xyz_bar(wl.lambda[i]);
-        let w = l[i] / wl.pdf[i];
-        xyz[0] += b[0] * w;
-        xyz[1] += b[1] * w;
-        xyz[2] += b[2] * w;
     }
-    let s = 1.0 / (N as f32 * cie::CIE_Y_INTEGRAL);
-    xyz.map(|v| v * s)
+    let s = F::splat(1.0 / (N as f32 * cie::CIE_Y_INTEGRAL));
+    [xyz[0] * s, xyz[1] * s, xyz[2] * s]
 }
 
 /// Per-pixel sums of XYZ and sample weights, in f64 so that long renders lose nothing.

@@ -10,10 +10,11 @@
 //! [`crate::shape::mesh::intersect_watertight_sheared`] does it: the same operations in the same
 //! order, so a triangle gives bit-for-bit the same t and barycentrics in either. That includes
 //! the f64 redo of edge functions that round to zero, and the rejection of hits closer than the
-//! rounding error of t (see the scalar test). The SIMD pass compares against the `t_max` at the
-//! block's start; [`Block::closest`] then walks the passing lanes in order and re-applies the two
-//! comparisons that involve `t_max` with its current value, which is exactly what a sequential
-//! loop over the four triangles would decide.
+//! rounding error of t (see the scalar test). The SIMD pass filters against the
+//! closest hit so far (widened by a few ulps); [`Block::closest`] then walks the passing lanes
+//! and decides exactly: a triangle is a candidate when the scalar test hits it within the ray's
+//! own range, and the closest candidate wins, the lowest id among equally close ones
+//! ([`Best`]), whatever order the traversal meets them in.
 use super::simd::{max_bits, sign_bits, F4};
 use crate::math::{Ray, Vec2, Vec3};
 use crate::shape::mesh::{edge_f64, gamma, ShearedRay};
@@ -159,36 +160,42 @@ impl Block {
         })
     }
 
-    /// Closest-hit test of the four slots against `ray` (whose `t_max` shrinks with each hit):
-    /// returns the last lane accepted, if any. Lanes are taken in order, as a sequential loop
-    /// over the slots would take them.
+    /// Closest-hit test of the four slots: a slot is a candidate when its primitive is hit
+    /// within the ray's own range (0, `ray.t_max`), and a candidate replaces `best` when it is
+    /// closer, or as close with a lower id (see [`Best`]). Returns the lane and hit coordinates
+    /// of the last replacement, if any. The lanes are first filtered in SIMD against `best`
+    /// widened by a few ulps (so rounding cannot drop a candidate as close as `best`); the
+    /// exact decisions are then taken lane by lane.
     #[inline(always)]
     pub fn closest(
         &self,
         r: &RayLanes,
-        ray: &mut Ray,
+        ray: &Ray,
+        best: &mut Best,
         shapes: &[Shape],
-    ) -> Option<(usize, f32, Vec2)> {
-        let lanes = self.test(r, ray.t_max);
+    ) -> Option<(usize, Vec2)> {
+        let lanes = self.test(r, widen(best.t));
         let analytic = self.analytic();
         let hit = lanes.as_ref().map_or(0, |l| l.hit);
         let mut todo = hit | analytic;
         if todo == 0 {
             return None;
         }
-        let mut best = None;
+        let mut found = None;
         while todo != 0 {
             let l = todo.trailing_zeros() as usize;
             todo &= todo - 1;
+            let id = self.id[l];
             if analytic & (1 << l) != 0 {
-                let shape = &shapes[(self.id[l] & !ANALYTIC) as usize];
+                let shape = &shapes[(id & !ANALYTIC) as usize];
                 if let Some((t, uv)) = shape.intersect_prim(0, ray) {
-                    ray.t_max = t;
-                    best = Some((l, t, uv));
+                    if best.takes(t, id) {
+                        found = Some((l, uv));
+                    }
                 }
                 continue;
             }
-            // The comparisons with t_max, redone with its current value.
+            // The comparisons with the ray's range, exactly as the scalar test makes them.
             let Some(lanes) = &lanes else { continue };
             let (det, ts, t) = (
                 lanes.det.to_array()[l],
@@ -197,14 +204,13 @@ impl Block {
             );
             let tmd = ray.t_max * det;
             let in_range = if det < 0.0 { ts > tmd } else { ts < tmd };
-            if in_range && t < ray.t_max {
-                ray.t_max = t;
+            if in_range && t < ray.t_max && best.takes(t, id) {
                 let inv = lanes.inv.to_array()[l];
                 let (v, w) = (lanes.v.to_array()[l], lanes.w.to_array()[l]);
-                best = Some((l, t, Vec2::new(v * inv, w * inv)));
+                found = Some((l, Vec2::new(v * inv, w * inv)));
             }
         }
-        best
+        found
     }
 
     /// Whether any slot is hit in (0, ray.t_max).
@@ -224,6 +230,48 @@ impl Block {
         }
         false
     }
+}
+
+/// The closest hit so far of one ray: its parameter (the ray's `t_max` before any hit) and
+/// lane id ([`NO_HIT`] before any hit). Hits are ordered by parameter, then by id, so the
+/// closest hit is one primitive whatever order a traversal meets them in (two triangles can
+/// be hit at exactly the same parameter, e.g. on a shared edge).
+#[derive(Clone, Copy, Debug)]
+pub struct Best {
+    pub t: f32,
+    pub id: u32,
+}
+
+/// [`Best::id`] before any hit.
+pub const NO_HIT: u32 = u32::MAX;
+
+impl Best {
+    /// Nothing hit yet within (0, t_max).
+    #[inline(always)]
+    pub fn new(t_max: f32) -> Best {
+        Best {
+            t: t_max,
+            id: NO_HIT,
+        }
+    }
+
+    /// Replaces the best hit by a candidate at `t` with lane id `id` if it comes first;
+    /// returns whether it did.
+    #[inline(always)]
+    pub fn takes(&mut self, t: f32, id: u32) -> bool {
+        if t < self.t || (t == self.t && id < self.id) {
+            (self.t, self.id) = (t, id);
+            true
+        } else {
+            false
+        }
+    }
+}
+
+/// `t` a few ulps larger: a filter bound that rounding cannot undercut.
+#[inline(always)]
+pub fn widen(t: f32) -> f32 {
+    t * (1.0 + 4.0 * f32::EPSILON)
 }
 
 /// The f64 redo of the edge functions in the lanes of `on_edge` (see the scalar test).

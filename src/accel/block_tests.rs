@@ -81,27 +81,26 @@ fn scalar(
     sr: &ShearedRay,
     shapes: &[Shape],
 ) -> (Option<(usize, f32, Vec2)>, bool) {
-    let mut r = *ray;
-    let mut best = None;
+    // Every slot hit within the ray's range is a candidate; the first in (t, id) order wins.
+    let mut best: Option<(usize, f32, Vec2)> = None;
     let mut any = false;
     for (lane, (id, c)) in slots.iter().enumerate() {
         let hit = if *id == EMPTY {
             None
         } else if id & ANALYTIC != 0 {
-            shapes[(id & !ANALYTIC) as usize].intersect_prim(0, &r)
+            shapes[(id & !ANALYTIC) as usize].intersect_prim(0, ray)
         } else {
-            intersect_watertight_sheared(c[0], c[1], c[2], &r, sr)
+            intersect_watertight_sheared(c[0], c[1], c[2], ray, sr)
         };
-        any |= match (*id, hit) {
-            (EMPTY, _) => false,
-            (i, _) if i & ANALYTIC != 0 => shapes[(i & !ANALYTIC) as usize]
-                .intersect_prim(0, ray)
-                .is_some(),
-            _ => intersect_watertight_sheared(c[0], c[1], c[2], ray, sr).is_some(),
-        };
+        any |= hit.is_some();
         if let Some((t, uv)) = hit {
-            r.t_max = t;
-            best = Some((lane, t, uv));
+            let first = match best {
+                None => true,
+                Some((l, bt, _)) => t < bt || (t == bt && *id < slots[l].0),
+            };
+            if first {
+                best = Some((lane, t, uv));
+            }
         }
     }
     (best, any)
@@ -136,12 +135,14 @@ fn block_test_is_bit_identical_to_the_scalar_watertight_test() {
         };
         let lanes = RayLanes::new(&ray, &sr);
         let (want, want_any) = scalar(&slots, &ray, &sr, &shapes);
-        let mut r = ray;
-        let got = block.closest(&lanes, &mut r, &shapes);
+        let mut best = Best::new(ray.t_max);
+        let got = block
+            .closest(&lanes, &ray, &mut best, &shapes)
+            .map(|(l, uv)| (l, best.t, uv));
         assert_eq!(bits(got), bits(want), "case {case}: {ray:?}");
         assert_eq!(block.any(&lanes, &ray, &shapes), want_any, "case {case}");
-        if let Some((l, t, _)) = got {
-            assert_eq!(r.t_max, t);
+        if let Some((l, _, _)) = got {
+            assert_eq!(best.id, slots[l].0);
             hits += 1;
             analytic_hits += (slots[l].0 == ANALYTIC) as usize;
         }

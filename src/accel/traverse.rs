@@ -2,14 +2,15 @@
 //!
 //! Closest hit: the ray meets a node's eight boxes at once ([`Node8::hit`]); of the children it
 //! enters, the nearest is visited next and the others are pushed far-to-near, so the stack pops
-//! them nearest first; popped entries that start beyond the closest hit so far are skipped. A
+//! them nearest first; popped entries that start beyond the closest hit so far are skipped. The
+//! closest hit is the first in (parameter, id) order ([`Best`]), whatever the visiting order. A
 //! node with one child hit pushes nothing. Any hit (shadow rays) skips the sorting and stops at
 //! the first primitive hit. The stack is fixed-size and left uninitialised (no allocation and
 //! no zeroing per ray).
 //!
 //! Everything here is `#[inline(always)]`: [`super::isa`] compiles these functions once per
 //! instruction set inside `#[target_feature]` wrappers.
-use super::block::{Block, RayLanes};
+use super::block::{widen, Best, Block, RayLanes};
 use super::build::MEDIAN_DEPTH;
 use super::simd::{prefetch, Vec8};
 use super::wide::{leaf_range, Node8, EMPTY_CHILD, LEAF};
@@ -78,26 +79,40 @@ pub fn closest<V: Vec8>(v: View, shapes: &[Shape], ray: &Ray) -> Option<Found> {
     if v.root == EMPTY_CHILD {
         return None;
     }
+    closest_below::<V>(v, shapes, ray, v.root, &mut Best::new(ray.t_max))
+}
+
+#[inline(always)]
+fn closest_below<V: Vec8>(
+    v: View,
+    shapes: &[Shape],
+    ray: &Ray,
+    start: u32,
+    closest: &mut Best,
+) -> Option<Found> {
     let sr = ShearedRay::new(ray.d)?;
     let lanes = RayLanes::new(ray, &sr);
     let br = BoxRay::<V>::new(ray);
+    // `r` carries the closest hit so far as its extent, for the box tests.
     let mut r = *ray;
+    r.t_max = closest.t;
     let mut best = None;
     let mut stack = [const { MaybeUninit::<(u32, f32)>::uninit() }; STACK];
     let mut sp = 0usize;
-    let mut cur = v.root;
+    let mut cur = start;
     loop {
         if cur & LEAF != 0 {
             let (first, n) = leaf_range(cur);
             for (k, b) in v.blocks[first..first + n].iter().enumerate() {
-                if let Some((lane, t, uv)) = b.closest(&lanes, &mut r, shapes) {
+                if let Some((lane, uv)) = b.closest(&lanes, ray, closest, shapes) {
                     best = Some(Found {
-                        id: b.ids()[lane],
-                        t,
+                        id: closest.id,
+                        t: closest.t,
                         uv,
                         block: (first + k) as u32,
                         lane: lane as u32,
                     });
+                    r.t_max = closest.t;
                 }
             }
         } else {
@@ -142,7 +157,9 @@ pub fn closest<V: Vec8>(v: View, shapes: &[Shape], ray: &Ray) -> Option<Found> {
             sp -= 1;
             // SAFETY: slots below the old `sp` were all written by a push.
             let (c, t) = unsafe { stack[sp].assume_init() };
-            if t <= r.t_max {
+            // Widened: a node whose entry rounds just past an equally close hit may still
+            // hold a tie (see `Best`).
+            if t <= widen(r.t_max) {
                 cur = c;
                 break;
             }
@@ -156,6 +173,11 @@ pub fn any<V: Vec8>(v: View, shapes: &[Shape], ray: &Ray) -> bool {
     if v.root == EMPTY_CHILD {
         return false;
     }
+    any_below::<V>(v, shapes, ray, v.root)
+}
+
+#[inline(always)]
+fn any_below<V: Vec8>(v: View, shapes: &[Shape], ray: &Ray, start: u32) -> bool {
     let Some(sr) = ShearedRay::new(ray.d) else {
         return false;
     };
@@ -163,7 +185,7 @@ pub fn any<V: Vec8>(v: View, shapes: &[Shape], ray: &Ray) -> bool {
     let br = BoxRay::<V>::new(ray);
     let mut stack = [const { MaybeUninit::<u32>::uninit() }; STACK];
     let mut sp = 0usize;
-    let mut cur = v.root;
+    let mut cur = start;
     loop {
         if cur & LEAF != 0 {
             let (first, n) = leaf_range(cur);

@@ -15,6 +15,7 @@
 //! and `nearClip`/`farClip` arrive here through the loader's camelCase upgrade.
 
 use crate::math::{Ray, Transform, Vec2, Vec3};
+use crate::simd::{Float, V3};
 
 /// Which image axis `fov` refers to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -107,20 +108,36 @@ impl PerspectiveCamera {
     /// The camera ray through the film point `film` ∈ [0,1]² (x right, y down).
     #[inline]
     pub fn generate_ray(&self, film: Vec2) -> Ray {
-        let d_cam = self.local_direction(film);
+        let (o, d, t_max) = self.generate_ray_lanes(film.x, film.y);
+        Ray {
+            o: o.into(),
+            d: d.into(),
+            t_max,
+        }
+    }
+
+    /// [`PerspectiveCamera::generate_ray`] on lanes: (origin, direction, t_max).
+    #[inline(always)]
+    pub fn generate_ray_lanes<F: Float>(&self, fx: F, fy: F) -> (V3<F>, V3<F>, F) {
+        let one = F::splat(1.0);
+        let two = F::splat(2.0);
+        let d_cam = V3::new(
+            (one - two * fx) * F::splat(self.tan_half.x),
+            (one - two * fy) * F::splat(self.tan_half.y),
+            one,
+        );
         let len = d_cam.length();
         let d_local = d_cam / len;
         // The clip planes are perpendicular to the view axis: along d_local (z = 1/len) they are
         // `len` times farther than their z.
-        let o = self.to_world.point(d_local * (self.near_clip * len));
-        let d = self.to_world.vector(d_local).normalize();
+        let o = self
+            .to_world
+            .point_lanes(d_local * (F::splat(self.near_clip) * len));
+        let dw = self.to_world.vector_lanes(d_local);
+        let d = dw.normalize();
         // A scaled to_world changes lengths; measure the clip range in world units.
-        let scale = self.to_world.vector(d_local).length();
-        Ray {
-            o,
-            d,
-            t_max: (self.far_clip - self.near_clip) * len * scale,
-        }
+        let scale = dw.length();
+        (o, d, F::splat(self.far_clip - self.near_clip) * len * scale)
     }
 
     /// Camera position in world space.

@@ -104,6 +104,34 @@ impl Transform {
         self.m.transform_point3(p)
     }
 
+    /// [`Transform::point`] on lanes (glam's operation order: the columns scaled by x, y, z
+    /// summed in turn, the translation added last).
+    #[inline(always)]
+    pub fn point_lanes<F: crate::simd::Float>(&self, p: crate::simd::V3<F>) -> crate::simd::V3<F> {
+        let v = self.vector_lanes(p);
+        let w = self.m.w_axis;
+        crate::simd::V3::new(
+            F::splat(w.x) + v.x,
+            F::splat(w.y) + v.y,
+            F::splat(w.z) + v.z,
+        )
+    }
+
+    /// [`Transform::vector`] on lanes.
+    #[inline(always)]
+    pub fn vector_lanes<F: crate::simd::Float>(&self, v: crate::simd::V3<F>) -> crate::simd::V3<F> {
+        #[inline(always)]
+        fn row<F: crate::simd::Float>(a: f32, b: f32, c: f32, v: crate::simd::V3<F>) -> F {
+            F::splat(c) * v.z + (F::splat(b) * v.y + F::splat(a) * v.x)
+        }
+        let (x, y, z) = (self.m.x_axis, self.m.y_axis, self.m.z_axis);
+        crate::simd::V3::new(
+            row(x.x, y.x, z.x, v),
+            row(x.y, y.y, z.y, v),
+            row(x.z, y.z, z.z, v),
+        )
+    }
+
     /// Transforms a direction (no translation).
     #[inline]
     pub fn vector(&self, v: Vec3) -> Vec3 {

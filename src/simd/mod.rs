@@ -83,6 +83,10 @@ pub trait Int:
     fn load(s: &[u32]) -> Self;
     /// Stores lanes to `s[0..LANES]`.
     fn store(self, s: &mut [u32]);
+    /// Loads lanes from `s[i..i + LANES]` (one bounds check).
+    fn load_at(s: &[u32], i: usize) -> Self;
+    /// Stores lanes to `s[i..i + LANES]` (one bounds check).
+    fn store_at(self, s: &mut [u32], i: usize);
     /// `s[idx[i]]` in lane i (indices must be in bounds; checked in debug builds).
     fn gather(s: &[u32], idx: Self) -> Self;
     /// Lane `i`.
@@ -147,6 +151,10 @@ pub trait Float:
     fn load(s: &[f32]) -> Self;
     /// Stores lanes to `s[0..LANES]`.
     fn store(self, s: &mut [f32]);
+    /// Loads lanes from `s[i..i + LANES]` (one bounds check).
+    fn load_at(s: &[f32], i: usize) -> Self;
+    /// Stores lanes to `s[i..i + LANES]` (one bounds check).
+    fn store_at(self, s: &mut [f32], i: usize);
     /// `s[idx[i]]` in lane i (indices must be in bounds; checked in debug builds).
     fn gather(s: &[f32], idx: Self::I) -> Self;
     /// Lane `i`.

@@ -73,6 +73,14 @@ impl Int for i32 {
         s[0] = self as u32;
     }
     #[inline(always)]
+    fn load_at(s: &[u32], i: usize) -> i32 {
+        s[i] as i32
+    }
+    #[inline(always)]
+    fn store_at(self, s: &mut [u32], i: usize) {
+        s[i] = self as u32;
+    }
+    #[inline(always)]
     fn gather(s: &[u32], idx: i32) -> i32 {
         s[idx as usize] as i32
     }
@@ -174,6 +182,14 @@ impl Float for f32 {
     #[inline(always)]
     fn store(self, s: &mut [f32]) {
         s[0] = self;
+    }
+    #[inline(always)]
+    fn load_at(s: &[f32], i: usize) -> f32 {
+        s[i]
+    }
+    #[inline(always)]
+    fn store_at(self, s: &mut [f32], i: usize) {
+        s[i] = self;
     }
     #[inline(always)]
     fn gather(s: &[f32], idx: i32) -> f32 {

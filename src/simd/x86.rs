@@ -181,6 +181,16 @@ impl Int for I8 {
         unsafe { _mm256_storeu_si256(s.as_mut_ptr() as *mut __m256i, self.0) }
     }
     #[inline(always)]
+    fn load_at(s: &[u32], i: usize) -> I8 {
+        assert!(i + 8 <= s.len());
+        unsafe { I8(_mm256_loadu_si256(s.as_ptr().add(i) as *const __m256i)) }
+    }
+    #[inline(always)]
+    fn store_at(self, s: &mut [u32], i: usize) {
+        assert!(i + 8 <= s.len());
+        unsafe { _mm256_storeu_si256(s.as_mut_ptr().add(i) as *mut __m256i, self.0) }
+    }
+    #[inline(always)]
     fn gather(s: &[u32], idx: I8) -> I8 {
         debug_assert!((0..8).all(|i| (idx.lane(i) as u32 as usize) < s.len()));
         unsafe { I8(_mm256_i32gather_epi32::<4>(s.as_ptr() as *const i32, idx.0)) }
@@ -298,6 +308,16 @@ impl Float for F8 {
     fn store(self, s: &mut [f32]) {
         assert!(s.len() >= 8);
         unsafe { _mm256_storeu_ps(s.as_mut_ptr(), self.0) }
+    }
+    #[inline(always)]
+    fn load_at(s: &[f32], i: usize) -> F8 {
+        assert!(i + 8 <= s.len());
+        unsafe { F8(_mm256_loadu_ps(s.as_ptr().add(i))) }
+    }
+    #[inline(always)]
+    fn store_at(self, s: &mut [f32], i: usize) {
+        assert!(i + 8 <= s.len());
+        unsafe { _mm256_storeu_ps(s.as_mut_ptr().add(i), self.0) }
     }
     #[inline(always)]
     fn gather(s: &[f32], idx: I8) -> F8 {

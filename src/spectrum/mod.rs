@@ -175,16 +175,34 @@ impl SampledWavelengths {
     /// Hero-wavelength sampling by visible importance: the hero is drawn from `u`, the others
     /// from `u + i/N` (mod 1), all through the same inverse CDF so each has the same density.
     pub fn sample_visible(u: f32) -> SampledWavelengths {
-        let mut lambda = [0.0; N];
-        let mut pdf = [0.0; N];
-        for i in 0..N {
-            let mut up = u + i as f32 / N as f32;
-            if up >= 1.0 {
-                up -= 1.0;
-            }
-            (lambda[i], pdf[i]) = sample_visible_wavelength_pdf(up);
-        }
+        let (lambda, pdf) = Self::sample_visible_lanes(u);
         SampledWavelengths { lambda, pdf }
+    }
+
+    /// [`SampledWavelengths::sample_visible`] on lanes: (wavelengths, densities).
+    #[inline(always)]
+    pub fn sample_visible_lanes<F: crate::simd::Float>(u: F) -> ([F; N], [F; N]) {
+        use crate::simd::Mask;
+        let mut lambda = [u; N];
+        let mut pdf = [u; N];
+        for i in 0..N {
+            let up = u + F::splat(i as f32 / N as f32);
+            let up = F::select(up.ge(F::splat(1.0)), up - F::splat(1.0), up);
+            let (l, p) = sample_visible_wavelength_lanes(up);
+            let outside = !(l.ge(F::splat(LAMBDA_MIN)) & l.le(F::splat(LAMBDA_MAX)));
+            (lambda[i], pdf[i]) = (l, p);
+            if outside.any() {
+                // Rounding put a wavelength past an end: clamp it there, lane by lane.
+                let mut la = [0.0f32; 16];
+                let mut pa = [0.0f32; 16];
+                for j in 0..F::LANES {
+                    (la[j], pa[j]) = sample_visible_wavelength_pdf(up.lane(j));
+                }
+                lambda[i] = F::select(outside, F::load(&la), l);
+                pdf[i] = F::select(outside, F::load(&pa), p);
+            }
+        }
+        (lambda, pdf)
     }
 
     /// Evenly spaced wavelengths with uniform density, starting at `u` within the first bin.

@@ -26,7 +26,34 @@
 //! Lanes are eight wide on CPUs with AVX2 (the code is compiled for AVX2 and for AVX-512,
 //! chosen at run time like the accelerator's traversal) and one wide elsewhere.
 
+/// `[e(0), e(1), e(2), e(3)]` for an expression `e` of `k`. Not a closure: a closure is
+/// compiled as a function of its own, without the caller's instruction set, and unless it
+/// is inlined every lane operation inside it becomes a call.
+macro_rules! spec {
+    ($k:ident => $e:expr) => {
+        [
+            {
+                let $k = 0;
+                $e
+            },
+            {
+                let $k = 1;
+                $e
+            },
+            {
+                let $k = 2;
+                $e
+            },
+            {
+                let $k = 3;
+                $e
+            },
+        ]
+    };
+}
+
 mod bsdf;
+mod ends;
 mod pool;
 pub mod program;
 mod surface;
@@ -35,14 +62,12 @@ mod vertex;
 pub use pool::POOL;
 pub use program::Program as WaveProgram;
 
-use super::path::{PathConfig, PathState, PathStrategy};
+use super::path::{PathConfig, PathStrategy};
 use crate::accel::{Isa, RawHit};
-use crate::film::spectrum_to_xyz;
-use crate::math::{Ray, Vec2};
-use crate::sampler::SamplerState;
+use crate::math::Ray;
 use crate::scene::Scene;
 use crate::simd::Float;
-use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+use crate::spectrum::SampledSpectrum;
 use pool::{Pool, MISS};
 use program::Program;
 use vertex::Ctx;
@@ -152,36 +177,26 @@ fn run<F: Float>(
     };
     let (tw, th) = (x1 - x0, y1 - y0);
     let spp = s1 - s0;
-    let jobs = tw * th * spp;
-    let mut results = vec![[0.0f32; 3]; jobs as usize];
-    let inv = Vec2::new(1.0 / scene.width as f32, 1.0 / scene.height as f32);
+    let mut jobs = ends::Jobs {
+        x0,
+        y0,
+        width: tw,
+        s0,
+        spp,
+        count: tw * th * spp,
+        next: 0,
+    };
+    let mut results = vec![[0.0f32; 3]; jobs.count as usize];
     let mut pool = Pool::new();
     let mut rays: Vec<Ray> = Vec::with_capacity(POOL);
     let mut hits: Vec<Option<RawHit>> = Vec::with_capacity(POOL);
     let mut shadows = Shadows::new();
-    let mut next = 0u32;
+    let mut dead: Vec<u32> = Vec::with_capacity(POOL);
+    let mut scratch = vertex::Scratch::new();
 
     loop {
         // 1. Refill.
-        while pool.n < POOL && next < jobs {
-            let job = next;
-            next += 1;
-            let pixel = job / spp;
-            let (x, y) = (x0 + pixel % tw, y0 + pixel / tw);
-            let mut st = SamplerState::start(scene.sampler.seed, x, y, s0 + job % spp);
-            let kind = ctx.kind;
-            let wl = SampledWavelengths::sample_visible(st.next_1d(kind));
-            let u = Vec2::new(st.next_1d(kind), st.next_1d(kind));
-            let offset = scene.filter.sample(u);
-            let film_p = (Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset) * inv;
-            let lens = if scene.camera.needs_aperture_sample() {
-                Vec2::new(st.next_1d(kind), st.next_1d(kind))
-            } else {
-                Vec2::splat(0.5)
-            };
-            let ray = scene.camera.generate_ray(film_p, lens);
-            pool.push(&PathState::new(ray), &wl, st, job);
-        }
+        while ends::start::<F>(scene, ctx.kind, &mut pool, &mut jobs) > 0 {}
         if pool.n == 0 {
             break;
         }
@@ -212,7 +227,7 @@ fn run<F: Float>(
         // 3. Shade.
         shadows.clear();
         for base in (0..n).step_by(F::LANES) {
-            vertex::shade_chunk::<F>(&ctx, &mut pool, base, &mut shadows);
+            vertex::shade_chunk::<F>(&ctx, &mut pool, base, &mut shadows, &mut scratch);
         }
 
         // 4. Shadow rays.
@@ -235,15 +250,12 @@ fn run<F: Float>(
         }
 
         // 5. Retire and compact.
-        pool.compact(|p, i| {
-            let l = SampledSpectrum(std::array::from_fn(|k| p.l[k][i]));
-            let l = if l.is_finite() {
-                l
-            } else {
-                SampledSpectrum::ZERO
-            };
-            results[p.job[i] as usize] = spectrum_to_xyz(&l, &p.wavelengths(i));
-        });
+        dead.clear();
+        dead.extend((0..n as u32).filter(|&i| pool.alive[i as usize] == 0));
+        for chunk in dead.chunks(F::LANES) {
+            ends::retire::<F>(&pool, chunk, &mut results);
+        }
+        pool.compact();
     }
 
     // Per-pixel sums in sample order, as the scalar loop adds them.

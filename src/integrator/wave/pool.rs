@@ -98,19 +98,6 @@ impl Pool {
         }
     }
 
-    /// Appends a path.
-    pub fn push(&mut self, path: &PathState, wl: &SampledWavelengths, s: SamplerState, job: u32) {
-        let i = self.n;
-        self.n += 1;
-        self.store_path(i, path);
-        for k in 0..4 {
-            self.lambda[k][i] = wl.lambda[k];
-            self.wl_pdf[k][i] = wl.pdf[k];
-        }
-        self.sampler[i] = s;
-        self.job[i] = job;
-    }
-
     /// Path `i`'s ray.
     #[inline]
     pub fn ray(&self, i: usize) -> Ray {
@@ -196,16 +183,15 @@ impl Pool {
         );
     }
 
-    /// Removes the paths whose `alive` is 0; `retire` sees each removed path's index first.
-    /// Each hole is filled with the last path (only dead paths cost a move).
-    pub fn compact(&mut self, mut retire: impl FnMut(&Pool, usize)) {
+    /// Removes the paths whose `alive` is 0, filling each hole with the last path (only
+    /// dead paths cost a move).
+    pub fn compact(&mut self) {
         let mut i = 0;
         while i < self.n {
             if self.alive[i] != 0 {
                 i += 1;
                 continue;
             }
-            retire(self, i);
             self.n -= 1;
             let last = self.n;
             if i != last {

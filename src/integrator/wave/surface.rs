@@ -26,12 +26,12 @@ pub(super) fn surfaces<F: Float>(
     base: usize,
     m: F::M,
     shape: F::I,
+    w: &mut [[f32; 16]; 16],
 ) -> Surface<F> {
     let scene = c.scene;
     let mesh = m & F::I::gather(&c.prog.shape_mesh, shape).eq(F::I::splat(1));
     // Lane by lane: what lives in each shape's own arrays (a triangle's corner UVs and
     // normals), or the whole interaction of other shapes.
-    let mut w = [[0.0f32; 16]; 16];
     let mut flip = 0u32;
     let mut has_normals = 0u32;
     for i in lanes(m.bits()) {
@@ -67,10 +67,10 @@ pub(super) fn surfaces<F: Float>(
         }
     }
     let other = Surface {
-        p: load_v3(&w, 0),
-        ng: load_v3(&w, 3),
-        ns: load_v3(&w, 6),
-        dpdu: load_v3(&w, 9),
+        p: load_v3(w, 0),
+        ng: load_v3(w, 3),
+        ns: load_v3(w, 6),
+        dpdu: load_v3(w, 9),
     };
     if !mesh.any() {
         return other;
@@ -78,16 +78,16 @@ pub(super) fn surfaces<F: Float>(
 
     // Triangles, from the corners in the leaf block and the barycentrics of the hit.
     let words = scene.bvh.block_words();
-    let slot = F::I::load(&pool.h_block[base..]).mul_lo(F::I::splat(BLOCK_WORDS as i32))
-        + F::I::load(&pool.h_lane[base..]);
+    let slot = F::I::load_at(&pool.h_block, base).mul_lo(F::I::splat(BLOCK_WORDS as i32))
+        + F::I::load_at(&pool.h_lane, base);
     let slot = F::I::select(mesh, slot, F::I::splat(0));
     let (p0, p1, p2) = (
         corner(words, slot, 0),
         corner(words, slot, 1),
         corner(words, slot, 2),
     );
-    let b1 = F::load(&pool.h_u[base..]);
-    let b2 = F::load(&pool.h_v[base..]);
+    let b1 = F::load_at(&pool.h_u, base);
+    let b2 = F::load_at(&pool.h_v, base);
     let b0 = F::splat(1.0) - b1 - b2;
     let p = p0 * b0 + p1 * b1 + p2 * b2;
     let flip = F::M::from_bits(flip);
@@ -111,7 +111,7 @@ pub(super) fn surfaces<F: Float>(
     // The interpolated vertex normal (on ng's side only through flip_normals), or ng.
     let with_n = F::M::from_bits(has_normals);
     let ns = if with_n.any() {
-        let s = load_v3(&w, 6) * b0 + load_v3(&w, 9) * b1 + load_v3(&w, 12) * b2;
+        let s = load_v3(w, 6) * b0 + load_v3(w, 9) * b1 + load_v3(w, 12) * b2;
         let s = s.normalize_or_zero();
         let s = V3::select(flip, -s, s);
         V3::select(with_n.and_not(s.is_zero()), s, ng)

@@ -39,41 +39,36 @@ pub(super) struct Ctx<'a> {
     pub kind: SamplerKind,
 }
 
+/// Lane tables filled lane by lane and then loaded as lanes, kept from chunk to chunk so
+/// that they are not cleared each time (lanes a chunk does not write are masked off).
+pub(super) struct Scratch {
+    /// The surface's rows (see `surface`).
+    pub surface: [[f32; 16]; 16],
+    /// The light sample's rows (see `sample_lights`).
+    pub light: [[f32; 16]; 24],
+    /// The chosen light of each lane.
+    pub light_index: [u32; 16],
+}
+
+impl Scratch {
+    pub fn new() -> Box<Scratch> {
+        Box::new(Scratch {
+            surface: [[0.0; 16]; 16],
+            light: [[0.0; 16]; 24],
+            light_index: [0; 16],
+        })
+    }
+}
+
 /// A spectrum at the path's four wavelengths, in lanes.
 pub(super) type Spec<F> = [F; 4];
-
-/// `[e(0), e(1), e(2), e(3)]` for an expression `e` of `k`. Not a closure: a closure is
-/// compiled as a function of its own, without the caller's instruction set, and unless it
-/// is inlined every lane operation inside it becomes a call.
-macro_rules! spec {
-    ($k:ident => $e:expr) => {
-        [
-            {
-                let $k = 0;
-                $e
-            },
-            {
-                let $k = 1;
-                $e
-            },
-            {
-                let $k = 2;
-                $e
-            },
-            {
-                let $k = 3;
-                $e
-            },
-        ]
-    };
-}
 
 #[inline(always)]
 fn load3<F: Float>(a: &[Vec<f32>; 3], base: usize) -> V3<F> {
     V3::new(
-        F::load(&a[0][base..]),
-        F::load(&a[1][base..]),
-        F::load(&a[2][base..]),
+        F::load_at(&a[0], base),
+        F::load_at(&a[1], base),
+        F::load_at(&a[2], base),
     )
 }
 
@@ -85,14 +80,14 @@ pub(super) fn load_v3<F: Float>(w: &[[f32; 16]], k: usize) -> V3<F> {
 
 #[inline(always)]
 fn store_masked<F: Float>(a: &mut [f32], base: usize, m: F::M, v: F) {
-    let old = F::load(&a[base..]);
-    F::select(m, v, old).store(&mut a[base..]);
+    let old = F::load_at(a, base);
+    F::select(m, v, old).store_at(a, base);
 }
 
 #[inline(always)]
 fn store_masked_int<F: Float>(a: &mut [u32], base: usize, m: F::M, v: F::I) {
-    let old = F::I::load(&a[base..]);
-    F::I::select(m, v, old).store(&mut a[base..]);
+    let old = F::I::load_at(a, base);
+    F::I::select(m, v, old).store_at(a, base);
 }
 
 #[inline(always)]
@@ -104,7 +99,7 @@ fn store3_masked<F: Float>(a: &mut [Vec<f32>; 3], base: usize, m: F::M, v: V3<F>
 
 #[inline(always)]
 fn load_spec<F: Float>(a: &Spectra, base: usize) -> Spec<F> {
-    spec!(k => F::load(&a[k][base..]))
+    spec!(k => F::load_at(&a[k], base))
 }
 
 #[inline(always)]
@@ -209,10 +204,16 @@ struct LightSample<F: Float> {
 /// Shades the paths `base .. base + F::LANES` (those below `pool.n`) that hit something or
 /// escaped this round; see the module header.
 #[inline(always)]
-pub(super) fn shade_chunk<F: Float>(c: &Ctx, pool: &mut Pool, base: usize, shadows: &mut Shadows) {
+pub(super) fn shade_chunk<F: Float>(
+    c: &Ctx,
+    pool: &mut Pool,
+    base: usize,
+    shadows: &mut Shadows,
+    scratch: &mut Scratch,
+) {
     let n = pool.n - base;
     let active = F::M::from_bits(if n >= 32 { u32::MAX } else { (1u32 << n) - 1 });
-    let shape = F::I::load(&pool.h_shape[base..]);
+    let shape = F::I::load_at(&pool.h_shape, base);
     let miss = shape.eq(F::I::splat(MISS as i32));
     let shape = F::I::select(miss, F::I::splat(0), shape);
     let in_lanes = F::I::gather(&c.prog.shape_lanes, shape).eq(F::I::splat(1));
@@ -221,7 +222,7 @@ pub(super) fn shade_chunk<F: Float>(c: &Ctx, pool: &mut Pool, base: usize, shado
         scalar_vertex(c, pool, base + i, shadows);
     }
     if vector.any() {
-        vector_vertex::<F>(c, pool, base, vector, shape, shadows);
+        vector_vertex::<F>(c, pool, base, vector, shape, shadows, scratch);
     }
 }
 
@@ -258,6 +259,7 @@ fn vector_vertex<F: Float>(
     m: F::M,
     shape: F::I,
     shadows: &mut Shadows,
+    scratch: &mut Scratch,
 ) {
     let (prog, cfg) = (c.prog, &c.cfg);
     let zero = F::splat(0.0);
@@ -268,15 +270,16 @@ fn vector_vertex<F: Float>(
     let mut beta = load_spec::<F>(&pool.beta, base);
     let mut l = load_spec::<F>(&pool.l, base);
 
-    let surface::Surface { p, ng, ns, dpdu } = surface::surfaces::<F>(c, pool, base, m, shape);
-    let t = F::load(&pool.h_t[base..]);
-    let path_length = F::load(&pool.path_length[base..]) + t;
+    let surface::Surface { p, ng, ns, dpdu } =
+        surface::surfaces::<F>(c, pool, base, m, shape, &mut scratch.surface);
+    let t = F::load_at(&pool.h_t, base);
+    let path_length = F::load_at(&pool.path_length, base) + t;
     store_masked(&mut pool.path_length, base, m, path_length);
 
     // Emission from an area light that the path hit.
-    let depth = F::I::load(&pool.depth[base..]);
-    let specular = F::I::load(&pool.specular[base..]).eq(F::I::splat(1));
-    let prev_pdf = F::load(&pool.prev_pdf[base..]);
+    let depth = F::I::load_at(&pool.depth, base);
+    let specular = F::I::load_at(&pool.specular, base).eq(F::I::splat(1));
+    let prev_pdf = F::load_at(&pool.prev_pdf, base);
     let emit1 = F::I::gather(&prog.shape_emit, shape);
     let mut emit = m.and_not(emit1.eq(F::I::splat(0)));
     if cfg.hide_emitters {
@@ -332,7 +335,7 @@ fn vector_vertex<F: Float>(
     let nee = alive & bsdf.non_specular();
     if cfg.use_nee && nee.any() {
         let wl_pdf = load_spec::<F>(&pool.wl_pdf, base);
-        let ls = sample_lights(c, nee, p, ng, u_light, u0, u1, &lambda, &wl_pdf);
+        let ls = sample_lights(c, nee, p, ng, u_light, u0, u1, &lambda, &wl_pdf, scratch);
         let wi_l = frame.to_local(ls.wi);
         let (f, bsdf_pdf) = bsdf.f_pdf(wo_l, wi_l);
         let cos = ls.wi.dot(frame.n).abs();
@@ -373,7 +376,7 @@ fn vector_vertex<F: Float>(
     }
     alive = alive & is_finite(&beta);
     let specular_i = F::I::select(bs.specular, F::I::splat(1), F::I::splat(0));
-    let eta_scale = F::load(&pool.eta_scale[base..]);
+    let eta_scale = F::load_at(&pool.eta_scale, base);
     let eta_scale = F::select(bs.transmission, eta_scale * (bs.eta * bs.eta), eta_scale);
     store_masked(&mut pool.eta_scale, base, alive, eta_scale);
     store_masked(&mut pool.prev_pdf, base, alive, bs.pdf);
@@ -424,19 +427,22 @@ fn sample_lights<F: Float>(
     u1: F,
     lambda: &Spec<F>,
     wl_pdf: &Spec<F>,
+    scratch: &mut Scratch,
 ) -> LightSample<F> {
     let (scene, prog) = (c.scene, c.prog);
     let zero = F::splat(0.0);
     // Per lane: the light, and what depends on its own tables.
-    let mut light = [0i32; 16];
-    let mut pmf = [0.0f32; 16];
+    let light = &mut scratch.light_index;
+    let (sc, rest) = scratch.light.split_at_mut(13);
+    let (tri, rest) = rest.split_at_mut(9);
+    let (pmf, ux) = rest.split_at_mut(1);
+    let (pmf, ux) = (&mut pmf[0], &mut ux[0]);
     let mut chosen = 0u32;
     let mut in_lanes = 0u32;
     // Lane lights: the triangle's corners and the remapped u0 (alias table in f64).
-    let mut tri = [[0.0f32; 16]; 9];
-    let mut ux = [0.0f32; 16];
+
     // Other lights: the scalar sample.
-    let mut sc = [[0.0f32; 16]; 13];
+
     let mut sc_ok = 0u32;
     let mut delta = 0u32;
     for i in lanes(m.bits()) {
@@ -444,7 +450,7 @@ fn sample_lights<F: Float>(
             continue;
         };
         chosen |= 1 << i;
-        light[i] = li as i32;
+        light[i] = li as u32;
         pmf[i] = pm;
         if prog.light_lanes[li] == 1 {
             in_lanes |= 1 << i;
@@ -491,17 +497,17 @@ fn sample_lights<F: Float>(
         pdf: F::load(&sc[10]),
         p_light: V3::new(F::load(&sc[7]), F::load(&sc[8]), F::load(&sc[9])),
         delta: F::M::from_bits(delta),
-        pmf: F::load(&pmf),
+        pmf: F::load(pmf),
     };
     if in_lanes != 0 {
         // Mesh area lights ([`crate::shape::TriangleMesh::sample_direct`] and
         // [`crate::light::AreaLight::sample_li`]).
         let lm = F::M::from_bits(in_lanes);
-        let light = F::I::load(&light.map(|x| x as u32));
+        let light = F::I::load(light);
         let tv =
             |k: usize| V3::<F>::new(F::load(&tri[k]), F::load(&tri[k + 1]), F::load(&tri[k + 2]));
         let (p0, p1, p2) = (tv(0), tv(3), tv(6));
-        let (b0, b1) = uniform_triangle(F::load(&ux), u1);
+        let (b0, b1) = uniform_triangle(F::load(ux), u1);
         let b2 = F::splat(1.0) - b0 - b1;
         let pos = p0 * b0 + p1 * b1 + p2 * b2;
         let n = (p1 - p0).cross(p2 - p0).normalize();
