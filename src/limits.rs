@@ -18,7 +18,7 @@
 //! | serialized mesh     | file size × 12 (zlib packs the ~44 bytes of a vertex and a triangle into ~15; the mesh needs ~150) |
 //! | `instance`          | the meshes of the group it copies                             |
 
-use crate::scene::build::MAX_RESOLUTION;
+use crate::film::MAX_RESOLUTION;
 use crate::scene::mitsuba::{Location, Node, SceneError, Tag};
 use std::path::Path;
 

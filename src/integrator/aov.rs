@@ -9,10 +9,12 @@
 //! </integrator>
 //! ```
 //!
-//! | XML name   | type       | default | meaning                                                  |
-//! |------------|------------|---------|----------------------------------------------------------|
-//! | `aovs`     | string     | (required) | comma-separated `name:type` pairs                     |
-//! | (nested)   | integrator | none    | at most one `path`: the colour image (R, G, B), also written as `NAME.R`, `.G`, `.B`, `.A` when it has a `name` |
+//! ## Parameters
+//!
+//! | parameter | type | default | unit | meaning |
+//! |---|---|---|---|---|
+//! | `aovs` | string | required | — | comma-separated `name:type` pairs (types below) |
+//! | `(nested)` | integrator | — | — | at most one `path` (or `direct`): the colour image (R, G, B), also written as `NAME.R`, `.G`, `.B`, `.A` when it has a `name` |
 //!
 //! Without a nested integrator the image is black and only the AOVs carry information.
 //!
@@ -45,7 +47,8 @@ use crate::bsdf::{Bsdf, Material, TransportMode};
 use crate::film::spectrum_to_xyz;
 use crate::math::rng::mix64;
 use crate::math::{Pcg32, Ray};
-use crate::scene::Scene;
+use crate::plugin::{declare, registry, Args, DefaultValue, Param, SceneError, Tag, Ty};
+use crate::scene::{IntegratorSettings, Scene};
 use crate::spectrum::{cie, SampledSpectrum, SampledWavelengths};
 use crate::texture::TexCoord;
 
@@ -110,6 +113,56 @@ pub struct AovSettings {
     pub has_image: bool,
     /// The nested integrator's `name`, if it has one (its RGBA copy is written under it).
     pub image_name: Option<String>,
+}
+
+declare!(
+    /// The `aov` plugin.
+    pub(crate) PLUGIN: IntegratorSettings = Integrator "aov" []
+    "extra channels beside the image: depth, normals, UV, shape index, albedo, …"
+    [&[
+        Param::new("aovs", Ty::String, DefaultValue::Required)
+            .doc("comma-separated `name:type` pairs (types below)"),
+        Param::new("(nested)", Ty::Object(Tag::Integrator), DefaultValue::None).doc(
+            "at most one `path` (or `direct`): the colour image (R, G, B), also written as \
+             `NAME.R`, `.G`, `.B`, `.A` when it has a `name`",
+        ),
+    ]] load);
+
+fn load(a: &mut Args, _: ()) -> Result<IntegratorSettings, SceneError> {
+    let spec = a.string("aovs")?;
+    let aovs = parse_aovs(&spec).map_err(|e| a.error("aovs", e))?;
+    let nested: Vec<_> = a
+        .node()
+        .children
+        .iter()
+        .filter(|c| c.node.tag == Tag::Integrator)
+        .collect();
+    if let Some(extra) = nested.get(1) {
+        return Err(SceneError::at(
+            &extra.node.loc,
+            "ophis's aov integrator takes at most one nested integrator",
+        ));
+    }
+    let (mut settings, has_image, image_name) = match nested.first() {
+        Some(c) if c.node.plugin == "aov" => {
+            return Err(SceneError::at(
+                &c.node.loc,
+                "an aov integrator cannot nest another",
+            ))
+        }
+        Some(c) => (
+            registry::integrator(&c.node, a.warnings())?,
+            true,
+            c.name.clone(),
+        ),
+        None => (IntegratorSettings::default(), false, None),
+    };
+    settings.aov = Some(AovSettings {
+        aovs,
+        has_image,
+        image_name,
+    });
+    Ok(settings)
 }
 
 /// Parses Mitsuba's `aovs` string: `name:type` pairs separated by commas.
