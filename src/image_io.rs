@@ -1,5 +1,5 @@
-//! Image reading and writing: OpenEXR (via the `exr` crate), Radiance HDR (RGBE, own reader),
-//! PNG (via the `png` crate) and, for reading only, JPEG (via `zune-jpeg`).
+//! Image reading and writing: OpenEXR (via the `exr` crate), Radiance HDR (RGBE, own reader:
+//! `hdr.rs` says why), PNG (via the `png` crate) and, for reading only, JPEG (via `zune-jpeg`).
 //!
 //! Every image is held as linear RGB in `f32`, row-major with the top row first. Readers pick the
 //! format from the file's magic bytes (`v/1\x01` OpenEXR, `#?` Radiance, `\x89PNG` PNG,
