@@ -33,7 +33,7 @@ use crate::plugin::{declare, Args, Check, DefaultValue, Param, SceneError, Tag, 
 
 /// Largest image side accepted; beyond this a film is almost certainly a typo, and its buffers
 /// would not fit in memory.
-pub const MAX_RESOLUTION: i64 = 1 << 15;
+pub(crate) const MAX_RESOLUTION: i64 = 1 << 15;
 
 /// Mitsuba's default image size, also used without a `<film>`.
 const DEFAULT_SIZE: (i64, i64) = (768, 576);
@@ -142,7 +142,7 @@ impl Filter {
 /// Converts a radiance sample at the path's wavelengths into CIE XYZ (Monte Carlo estimate of
 /// ∫ L(λ) x̄(λ) dλ / ∫ ȳ, averaging the hero and secondary wavelengths).
 #[inline]
-pub fn spectrum_to_xyz(l: &SampledSpectrum, wl: &SampledWavelengths) -> [f32; 3] {
+pub(crate) fn spectrum_to_xyz(l: &SampledSpectrum, wl: &SampledWavelengths) -> [f32; 3] {
     let mut xyz = [0.0f32; 3];
     for i in 0..N {
         if wl.pdf[i] <= 0.0 {

@@ -31,7 +31,7 @@ use self::png_io::read_png_bytes;
 pub use self::png_io::write_png;
 
 /// Largest accepted image, in pixels (2^28, i.e. 16384 × 16384).
-pub const MAX_PIXELS: usize = 1 << 28;
+pub(crate) const MAX_PIXELS: usize = 1 << 28;
 
 /// A linear RGB image, row-major, top row first.
 #[derive(Clone, Debug, PartialEq)]
@@ -272,13 +272,13 @@ fn read_exr_bytes(path: &Path, bytes: Vec<u8>) -> Result<RgbImage, ImageError> {
 
 /// sRGB transfer function: encoded value in [0, 1] → linear.
 #[inline]
-pub fn srgb_to_linear(v: f32) -> f32 {
+pub(crate) fn srgb_to_linear(v: f32) -> f32 {
     crate::spectrum::cie::srgb_decode(v)
 }
 
 /// Inverse sRGB transfer function: linear → encoded, clamped to [0, 1] (NaN → 0).
 #[inline]
-pub fn linear_to_srgb(v: f32) -> f32 {
+pub(crate) fn linear_to_srgb(v: f32) -> f32 {
     crate::spectrum::cie::srgb_encode(v).min(1.0)
 }
 

@@ -81,7 +81,7 @@ impl AbsorptionBxdf {
             tau: sigma_a * thickness,
         }
     }
-    pub fn flags(&self) -> BxdfFlags {
+    pub(crate) fn flags(&self) -> BxdfFlags {
         if self.rho.is_black() {
             BxdfFlags::NONE
         } else {
@@ -95,7 +95,7 @@ impl AbsorptionBxdf {
         let path = 1.0 / wo.z + 1.0 / wi.z;
         self.rho * INV_PI * (-self.tau * path).exp()
     }
-    pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+    pub(crate) fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
         if wo.z <= 0.0 || wi.z <= 0.0 {
             return 0.0;
         }

@@ -10,13 +10,13 @@ use crate::spectrum::{ior as named_ior, SampledWavelengths, Spectrum};
 use crate::texture::{FloatTexture, TexCoord};
 
 /// Default film index (OpenPBR's `thin_film_ior`).
-pub const DEFAULT_FILM_IOR: f32 = 1.4;
+pub(crate) const DEFAULT_FILM_IOR: f32 = 1.4;
 /// Default film thickness in nm (OpenPBR's `thin_film_thickness`, 0.5 µm).
-pub const DEFAULT_FILM_THICKNESS: f32 = 500.0;
+pub(crate) const DEFAULT_FILM_THICKNESS: f32 = 500.0;
 /// Film thickness of the thesis's Mitsuba 0.6 plugins when none is given (nm).
-pub const THESIS_PLUGIN_FILM_THICKNESS: f32 = 400.0;
+pub(crate) const THESIS_PLUGIN_FILM_THICKNESS: f32 = 400.0;
 /// Largest film thickness accepted (nm): 100 µm is far beyond a coherent film already.
-pub const MAX_FILM_THICKNESS: f32 = 1e5;
+pub(crate) const MAX_FILM_THICKNESS: f32 = 1e5;
 
 /// A film's index of refraction.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -76,7 +76,7 @@ impl FilmSpec {
     }
 
     /// The film's Fresnel term at a point for the path's wavelengths.
-    pub fn fresnel(&self, tc: &TexCoord, wl: &SampledWavelengths) -> FilmFresnel {
+    pub(crate) fn fresnel(&self, tc: &TexCoord, wl: &SampledWavelengths) -> FilmFresnel {
         let d = self.thickness.eval(tc);
         FilmFresnel {
             ext: self.ext_ior,
@@ -88,7 +88,7 @@ impl FilmSpec {
     }
 
     /// Whether light can pass through (a dielectric base).
-    pub fn transmits(&self) -> bool {
+    pub(crate) fn transmits(&self) -> bool {
         matches!(self.base, FilmBase::Dielectric { .. })
     }
 }

@@ -159,7 +159,7 @@ impl PlasticBxdf {
     }
 
     /// Lobe flags.
-    pub fn flags(&self) -> BxdfFlags {
+    pub(crate) fn flags(&self) -> BxdfFlags {
         let specular = match self.coat {
             None => BxdfFlags::SPECULAR_REFLECTION,
             Some(_) => BxdfFlags::GLOSSY_REFLECTION,
@@ -188,7 +188,7 @@ impl PlasticBxdf {
     }
 
     /// Density of the non-delta lobes.
-    pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+    pub(crate) fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
         if wo.z <= 0.0 || wi.z <= 0.0 {
             return 0.0;
         }

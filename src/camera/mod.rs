@@ -11,9 +11,9 @@ pub mod orthographic;
 pub mod perspective;
 pub mod thinlens;
 
-pub use orthographic::OrthographicCamera;
-pub use perspective::{FovAxis, PerspectiveCamera};
-pub use thinlens::ThinLensCamera;
+pub(crate) use orthographic::OrthographicCamera;
+pub(crate) use perspective::{FovAxis, PerspectiveCamera};
+pub(crate) use thinlens::ThinLensCamera;
 
 use crate::film::FilmSettings;
 use crate::math::{Ray, Transform, Vec2, Vec3};
@@ -32,7 +32,7 @@ impl Camera {
     /// Whether [`Camera::generate_ray`] uses its aperture sample (the render loop draws one only
     /// then, so that pinhole images keep their sample sequences).
     #[inline]
-    pub fn needs_aperture_sample(&self) -> bool {
+    pub(crate) fn needs_aperture_sample(&self) -> bool {
         matches!(self, Camera::ThinLens(_))
     }
 

@@ -83,7 +83,7 @@ impl OrthographicCamera {
     }
 
     /// Width of one pixel on the sensor, in world units, for an image `height` pixels tall.
-    pub fn pixel_width(&self, height: u32) -> f32 {
+    pub(crate) fn pixel_width(&self, height: u32) -> f32 {
         let up = self.to_world.vector(Vec3::new(0.0, 2.0 * self.half.y, 0.0));
         up.length() / height.max(1) as f32
     }

@@ -123,7 +123,7 @@ pub enum FovAxis {
 
 impl FovAxis {
     /// Parses Mitsuba's names.
-    pub fn from_name(s: &str) -> Option<FovAxis> {
+    pub(crate) fn from_name(s: &str) -> Option<FovAxis> {
         Some(match s {
             "x" => FovAxis::X,
             "y" => FovAxis::Y,
@@ -184,14 +184,14 @@ impl PerspectiveCamera {
 
     /// Angle one pixel subtends at the image centre, for an image `height` pixels tall
     /// (a footprint estimate for texture filtering).
-    pub fn pixel_angle(&self, height: u32) -> f32 {
+    pub(crate) fn pixel_angle(&self, height: u32) -> f32 {
         2.0 * self.tan_half.y / height.max(1) as f32
     }
 
     /// The camera-space direction (not normalised, z = 1) through the film point `film` ∈ [0,1]²
     /// (x right, y down).
     #[inline]
-    pub fn local_direction(&self, film: Vec2) -> Vec3 {
+    pub(crate) fn local_direction(&self, film: Vec2) -> Vec3 {
         Vec3::new(
             (1.0 - 2.0 * film.x) * self.tan_half.x,
             (1.0 - 2.0 * film.y) * self.tan_half.y,

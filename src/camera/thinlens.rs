@@ -96,9 +96,10 @@ impl ThinLensCamera {
         }
     }
 
+    #[cfg(test)]
     /// The thin-lens circle of confusion of a point at depth `z` (camera space), as a radius in
     /// the tangent-of-angle units of the film plane.
-    pub fn confusion_radius(&self, z: f32) -> f32 {
+    pub(crate) fn confusion_radius(&self, z: f32) -> f32 {
         self.aperture_radius * (1.0 / self.focus_distance - 1.0 / z).abs()
     }
 }

@@ -69,7 +69,7 @@ pub enum AovKind {
 
 impl AovKind {
     /// Mitsuba's name of the type.
-    pub fn from_name(s: &str) -> Option<AovKind> {
+    pub(crate) fn from_name(s: &str) -> Option<AovKind> {
         Some(match s {
             "albedo" => AovKind::Albedo,
             "depth" => AovKind::Depth,
@@ -166,7 +166,7 @@ fn load(a: &mut Args, _: ()) -> Result<IntegratorSettings, SceneError> {
 }
 
 /// Parses Mitsuba's `aovs` string: `name:type` pairs separated by commas.
-pub fn parse_aovs(spec: &str) -> Result<Vec<Aov>, String> {
+pub(crate) fn parse_aovs(spec: &str) -> Result<Vec<Aov>, String> {
     let mut out: Vec<Aov> = Vec::new();
     for item in spec.split(',').map(str::trim).filter(|s| !s.is_empty()) {
         let Some((name, kind)) = item.split_once(':') else {
@@ -221,7 +221,7 @@ impl AovSettings {
 
     /// Adds one camera sample's AOVs to `out` (one value per channel). `key` identifies the
     /// pixel sample (it seeds the albedo estimate's own random stream).
-    pub fn accumulate(&self, scene: &Scene, ray: &Ray, key: u64, out: &mut [f64]) {
+    pub(crate) fn accumulate(&self, scene: &Scene, ray: &Ray, key: u64, out: &mut [f64]) {
         let hit = scene.intersect(ray).map(|(_, si)| si);
         let mut k = 0;
         let mut put = |vals: &[f32]| {
@@ -304,7 +304,7 @@ fn albedo(scene: &Scene, ray: &Ray, si: &crate::shape::SurfaceInteraction, key: 
 
 /// A key for one pixel sample (for [`AovSettings::accumulate`]).
 #[inline]
-pub fn sample_key(seed: u64, x: u32, y: u32, index: u32) -> u64 {
+pub(crate) fn sample_key(seed: u64, x: u32, y: u32, index: u32) -> u64 {
     mix64(seed ^ mix64(((y as u64) << 32) | x as u64) ^ ((index as u64) << 17))
 }
 

@@ -109,7 +109,7 @@ fn luminance(c: [f32; 3]) -> f32 {
 }
 
 /// Direction in the map's frame → (u, v) ∈ [0, 1]².
-pub fn direction_to_uv(d: Vec3) -> Vec2 {
+pub(crate) fn direction_to_uv(d: Vec3) -> Vec2 {
     let mut u = d.x.atan2(-d.z) * (0.5 / PI);
     if u < 0.0 {
         u += 1.0;
@@ -118,7 +118,7 @@ pub fn direction_to_uv(d: Vec3) -> Vec2 {
 }
 
 /// (u, v) → unit direction in the map's frame.
-pub fn uv_to_direction(uv: Vec2) -> Vec3 {
+pub(crate) fn uv_to_direction(uv: Vec2) -> Vec3 {
     let (sin_phi, cos_phi) = (2.0 * PI * uv.x).sin_cos();
     let (sin_theta, cos_theta) = (PI * uv.y).sin_cos();
     Vec3::new(sin_phi * sin_theta, cos_theta, -cos_phi * sin_theta)
@@ -260,7 +260,7 @@ impl EnvMapLight {
     }
 
     /// Radiance seen along the escaping direction `dir` (world space).
-    pub fn le(&self, dir: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
+    pub(crate) fn le(&self, dir: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
         let d = self.local(dir);
         if d == Vec3::ZERO {
             return SampledSpectrum::ZERO;
@@ -269,7 +269,7 @@ impl EnvMapLight {
     }
 
     /// Solid-angle density of [`Self::sample_li`] producing the world direction `wi`.
-    pub fn pdf_li(&self, wi: Vec3) -> f32 {
+    pub(crate) fn pdf_li(&self, wi: Vec3) -> f32 {
         let d = self.local(wi);
         let sin_theta = (d.x * d.x + d.z * d.z).sqrt();
         if sin_theta.is_nan() || sin_theta <= 0.0 {

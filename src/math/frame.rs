@@ -28,7 +28,7 @@ impl Frame {
     /// A frame with z axis `n` whose x axis is `dpdu` made orthogonal to `n` (Gram–Schmidt);
     /// falls back to [`Frame::from_z`] when `dpdu` is degenerate or parallel to `n`.
     #[inline]
-    pub fn from_normal_tangent(n: Vec3, dpdu: Vec3) -> Frame {
+    pub(crate) fn from_normal_tangent(n: Vec3, dpdu: Vec3) -> Frame {
         let s = dpdu - n * n.dot(dpdu);
         let len2 = s.length_squared();
         if !(len2 > 1e-12) || !len2.is_finite() {
@@ -44,7 +44,7 @@ impl Frame {
 
     /// World → local.
     #[inline]
-    pub fn to_local(&self, v: Vec3) -> Vec3 {
+    pub(crate) fn to_local(self, v: Vec3) -> Vec3 {
         Vec3::new(v.dot(self.s), v.dot(self.t), v.dot(self.n))
     }
 

@@ -6,7 +6,7 @@ use glam::{Vec2, Vec3};
 
 /// Uniform point on the unit disk (concentric mapping, low distortion).
 #[inline]
-pub fn square_to_uniform_disk_concentric(u: Vec2) -> Vec2 {
+pub(crate) fn square_to_uniform_disk_concentric(u: Vec2) -> Vec2 {
     let o = 2.0 * u - Vec2::ONE;
     if o.x == 0.0 && o.y == 0.0 {
         return Vec2::ZERO;
@@ -30,22 +30,13 @@ pub fn square_to_cosine_hemisphere(u: Vec2) -> Vec3 {
 
 /// Density of [`square_to_cosine_hemisphere`] (solid angle).
 #[inline]
-pub fn square_to_cosine_hemisphere_pdf(v: Vec3) -> f32 {
+pub(crate) fn square_to_cosine_hemisphere_pdf(v: Vec3) -> f32 {
     v.z.max(0.0) * INV_PI
-}
-
-/// Uniform direction on the upper hemisphere.
-#[inline]
-pub fn square_to_uniform_hemisphere(u: Vec2) -> Vec3 {
-    let z = u.x;
-    let r = safe_sqrt(1.0 - z * z);
-    let phi = 2.0 * PI * u.y;
-    Vec3::new(r * phi.cos(), r * phi.sin(), z)
 }
 
 /// Uniform direction on the unit sphere.
 #[inline]
-pub fn square_to_uniform_sphere(u: Vec2) -> Vec3 {
+pub(crate) fn square_to_uniform_sphere(u: Vec2) -> Vec3 {
     let z = 1.0 - 2.0 * u.x;
     let r = safe_sqrt(1.0 - z * z);
     let phi = 2.0 * PI * u.y;
@@ -54,13 +45,14 @@ pub fn square_to_uniform_sphere(u: Vec2) -> Vec3 {
 
 /// Density of [`square_to_uniform_sphere`].
 #[inline]
-pub fn square_to_uniform_sphere_pdf() -> f32 {
+pub(crate) fn square_to_uniform_sphere_pdf() -> f32 {
     INV_4PI
 }
 
+#[cfg(test)]
 /// Uniform direction in the cone around +z with cos(half-angle) = `cos_max`.
 #[inline]
-pub fn square_to_uniform_cone(u: Vec2, cos_max: f32) -> Vec3 {
+pub(crate) fn square_to_uniform_cone(u: Vec2, cos_max: f32) -> Vec3 {
     let cos_t = (1.0 - u.x) + u.x * cos_max;
     let sin_t = safe_sqrt(1.0 - cos_t * cos_t);
     let phi = 2.0 * PI * u.y;
@@ -70,7 +62,7 @@ pub fn square_to_uniform_cone(u: Vec2, cos_max: f32) -> Vec3 {
 /// Uniform barycentric coordinates (b0, b1) on a triangle (Heitz 2019, "A Low-Distortion Map
 /// Between Triangle and Square"); b2 = 1 − b0 − b1.
 #[inline]
-pub fn square_to_uniform_triangle(u: Vec2) -> Vec2 {
+pub(crate) fn square_to_uniform_triangle(u: Vec2) -> Vec2 {
     let (b0, b1);
     if u.x < u.y {
         b0 = u.x / 2.0;

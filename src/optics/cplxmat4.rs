@@ -233,7 +233,7 @@ fn finish(m: &CM4, y0: &F4, y: &Z4, atten: &F4) -> (F4, F4) {
 /// (R_s, R_p, T_s, T_p) of any stack (see the module doc); arguments as
 /// [`super::realmat4::rt_real`].
 #[inline(always)]
-pub fn rt_complex(
+pub(crate) fn rt_complex(
     layers: &[LayerLanes],
     groups: &[Group],
     rev: bool,

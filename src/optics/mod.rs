@@ -5,7 +5,7 @@
 //! Layering: nothing here imports `bsdf`, `scene`, `plot` or the renderer (the figures of
 //! `ophis thinfilm` are drawn by the binary).
 
-pub mod charmatrix;
+pub(crate) mod charmatrix;
 mod cplxmat4;
 pub mod filmstack;
 #[cfg(test)]
@@ -13,7 +13,7 @@ mod filmstack_tests;
 pub mod filmtool;
 pub mod ior;
 mod realmat4;
-pub mod simd4;
+pub(crate) mod simd4;
 pub mod stackeval;
 pub mod stackspec;
 pub mod thinfilm;

@@ -162,7 +162,7 @@ impl<'a> Args<'a> {
     }
 
     /// A float (integers accepted), or `None` when absent and the default is not a number.
-    pub fn float_opt(&self, name: &str) -> Result<Option<f32>, SceneError> {
+    pub(crate) fn float_opt(&self, name: &str) -> Result<Option<f32>, SceneError> {
         let p = self.param(name)?;
         let v = match self.present(p, name)? {
             Some(n) => match self.node.props.get_float_opt(&n)? {
@@ -192,7 +192,7 @@ impl<'a> Args<'a> {
     }
 
     /// An integer, or `None` when absent without a default.
-    pub fn int_opt(&self, name: &str) -> Result<Option<i64>, SceneError> {
+    pub(crate) fn int_opt(&self, name: &str) -> Result<Option<i64>, SceneError> {
         let p = self.param(name)?;
         let v = match self.present(p, name)? {
             Some(n) => self.node.props.get_int_opt(&n)?.map(|v| (v, n)),
@@ -231,7 +231,7 @@ impl<'a> Args<'a> {
     }
 
     /// A string, or `None` when absent without a default; checked against `OneOf`.
-    pub fn string_opt(&self, name: &str) -> Result<Option<String>, SceneError> {
+    pub(crate) fn string_opt(&self, name: &str) -> Result<Option<String>, SceneError> {
         let p = self.param(name)?;
         let v = match self.present(p, name)? {
             Some(n) => self.node.props.get_string_opt(&n)?.map(|s| (s, n)),
@@ -281,7 +281,7 @@ impl<'a> Args<'a> {
     }
 
     /// A point (a vector is accepted too), or `None` if absent.
-    pub fn point_opt(&self, name: &str) -> Result<Option<Vec3>, SceneError> {
+    pub(crate) fn point_opt(&self, name: &str) -> Result<Option<Vec3>, SceneError> {
         let p = self.param(name)?;
         match self.present(p, name)? {
             Some(n) => self.node.props.get_point_opt(&n),
@@ -290,7 +290,7 @@ impl<'a> Args<'a> {
     }
 
     /// A vector (a point is accepted too), or `None` if absent.
-    pub fn vector_opt(&self, name: &str) -> Result<Option<Vec3>, SceneError> {
+    pub(crate) fn vector_opt(&self, name: &str) -> Result<Option<Vec3>, SceneError> {
         let p = self.param(name)?;
         match self.present(p, name)? {
             Some(n) => self.node.props.get_vector_opt(&n),
@@ -329,7 +329,7 @@ impl<'a> Args<'a> {
     }
 
     /// A spectrum value of the declared kind, or `None` when absent without a default.
-    pub fn spectrum_opt(&self, name: &str) -> Result<Option<Spectrum>, SceneError> {
+    pub(crate) fn spectrum_opt(&self, name: &str) -> Result<Option<Spectrum>, SceneError> {
         let p = self.param(name)?;
         match self.present(p, name)? {
             Some(n) => values::spectrum_opt(self.node, &n, Self::kind(p)),
@@ -340,7 +340,11 @@ impl<'a> Args<'a> {
 
     /// A spectrum value read as `kind` (for textures, whose users decide how a colour is
     /// uplifted), with the declared default.
-    pub fn spectrum_as(&self, name: &str, kind: SpectrumKind) -> Result<Spectrum, SceneError> {
+    pub(crate) fn spectrum_as(
+        &self,
+        name: &str,
+        kind: SpectrumKind,
+    ) -> Result<Spectrum, SceneError> {
         let p = self.param(name)?;
         let mut as_kind = *p;
         as_kind.ty = Ty::Spectrum(kind);
@@ -370,7 +374,7 @@ impl<'a> Args<'a> {
     }
 
     /// A colour: a nested or referenced texture, or a value (declared default when absent).
-    pub fn spectrum_texture(&mut self, name: &str) -> Result<SpectrumTexture, SceneError> {
+    pub(crate) fn spectrum_texture(&mut self, name: &str) -> Result<SpectrumTexture, SceneError> {
         let p = self.param(name)?;
         if let Some(tex) = self.texture_child(p, name)? {
             return registry::spectrum_texture(tex, Self::kind(p), self.warnings);
@@ -379,7 +383,7 @@ impl<'a> Args<'a> {
     }
 
     /// A scalar: a nested or referenced texture, or a checked float (declared default).
-    pub fn float_texture(&mut self, name: &str) -> Result<FloatTexture, SceneError> {
+    pub(crate) fn float_texture(&mut self, name: &str) -> Result<FloatTexture, SceneError> {
         let p = self.param(name)?;
         if let Some(tex) = self.texture_child(p, name)? {
             return registry::float_texture(tex, self.warnings);
@@ -421,7 +425,7 @@ impl<'a> Args<'a> {
     }
 
     /// Builds a nested texture.
-    pub fn texture_node(
+    pub(crate) fn texture_node(
         &mut self,
         node: &Arc<Node>,
         want: Want,

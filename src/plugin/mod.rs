@@ -53,7 +53,7 @@ pub mod values;
 
 pub use args::Args;
 pub use error::SceneError;
-pub use files::FileResolver;
+pub(crate) use files::FileResolver;
 pub(crate) use node::describe;
 pub use node::{Child, Location, Node, Tag, Warning};
 pub use param::{Check, DefaultValue, Info, Param, Plugin, Ty};

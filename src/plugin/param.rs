@@ -279,7 +279,7 @@ impl Info {
 
     /// The declared parameter under any of its spellings; an indexed declaration `x_i`
     /// matches `x_0`, `x_1`, ….
-    pub fn param(&self, name: &str) -> Option<&'static Param> {
+    pub(crate) fn param(&self, name: &str) -> Option<&'static Param> {
         let indexed = |n: &str| {
             n.strip_suffix("_i").is_some_and(|prefix| {
                 name.strip_prefix(prefix)
@@ -297,7 +297,7 @@ impl Info {
     }
 
     /// Whether `name` (or an alias) names this plugin.
-    pub fn is_called(&self, name: &str) -> bool {
+    pub(crate) fn is_called(&self, name: &str) -> bool {
         self.name == name || self.aliases.contains(&name)
     }
 

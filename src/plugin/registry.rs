@@ -363,7 +363,7 @@ pub fn integrator(
 }
 
 /// A texture used as a colour.
-pub fn spectrum_texture(
+pub(crate) fn spectrum_texture(
     node: &Node,
     kind: SpectrumKind,
     warnings: &mut Vec<Warning>,
@@ -378,7 +378,10 @@ pub fn spectrum_texture(
 }
 
 /// A texture used as a number.
-pub fn float_texture(node: &Node, warnings: &mut Vec<Warning>) -> Result<FloatTexture, SceneError> {
+pub(crate) fn float_texture(
+    node: &Node,
+    warnings: &mut Vec<Warning>,
+) -> Result<FloatTexture, SceneError> {
     match texture(node, Want::Float, warnings)? {
         Texture::Float(t) => Ok(t),
         _ => Err(SceneError::at(

@@ -224,7 +224,7 @@ impl Cylinder {
     }
 
     /// Samples a point uniformly by area, with its density in solid angle seen from `ref_p`.
-    pub fn sample_direct(&self, ref_p: Vec3, u: Vec2) -> Option<ShapeSample> {
+    pub(crate) fn sample_direct(&self, ref_p: Vec3, u: Vec2) -> Option<ShapeSample> {
         let (s, c) = (2.0 * PI * u.y).sin_cos();
         let (p, n, uv, _, _) = self.at_local(Vec3::new(c, s, u.x));
         let pdf = area_to_solid_angle(1.0 / self.area(), ref_p, p, n);
@@ -232,7 +232,7 @@ impl Cylinder {
     }
 
     /// Solid-angle density of [`Cylinder::sample_direct`] choosing `p` (normal `n`) from `ref_p`.
-    pub fn pdf_direct(&self, ref_p: Vec3, p: Vec3, n: Vec3) -> f32 {
+    pub(crate) fn pdf_direct(&self, ref_p: Vec3, p: Vec3, n: Vec3) -> f32 {
         area_to_solid_angle(1.0 / self.area(), ref_p, p, n)
     }
 }

@@ -110,7 +110,7 @@ fn load(a: &mut Args, parent: Transform) -> Result<super::Parts, SceneError> {
 
 /// Parameters of the litter (see the module header).
 #[derive(Clone, Debug, PartialEq)]
-pub struct LitterParams {
+pub(crate) struct LitterParams {
     pub count: u32,
     pub size: f32,
     pub size_spread: f32,
@@ -145,7 +145,7 @@ const ALONG: usize = 8;
 const ACROSS: usize = 4;
 
 /// The litter's mesh in object space.
-pub fn litter(p: &LitterParams) -> MeshData {
+pub(crate) fn litter(p: &LitterParams) -> MeshData {
     let mut rng = Pcg32::new(0x1eaf ^ p.seed as u64, 7);
     let mut positions = Vec::new();
     let mut normals = Vec::new();

@@ -132,7 +132,7 @@ impl TriangleMesh {
     }
 
     /// Mitsuba's `obj` shape.
-    pub fn from_obj(
+    pub(crate) fn from_obj(
         path: &Path,
         to_world: &Transform,
         opts: &MeshOptions,
@@ -142,7 +142,7 @@ impl TriangleMesh {
     }
 
     /// Mitsuba's `serialized` shape: mesh `shape_index` of the file.
-    pub fn from_serialized(
+    pub(crate) fn from_serialized(
         path: &Path,
         shape_index: u32,
         to_world: &Transform,
@@ -153,7 +153,7 @@ impl TriangleMesh {
     }
 
     /// Mitsuba's `ply` shape.
-    pub fn from_ply(
+    pub(crate) fn from_ply(
         path: &Path,
         to_world: &Transform,
         opts: &MeshOptions,
@@ -166,7 +166,7 @@ impl TriangleMesh {
 /// Angle-weighted vertex normals (see the module header); a vertex on no valid triangle gets
 /// +x, as Mitsuba gives it, and triangles with an index out of range are skipped (the mesh
 /// constructor reports them).
-pub fn smooth_normals(positions: &[Vec3], indices: &[[u32; 3]]) -> Vec<Vec3> {
+pub(crate) fn smooth_normals(positions: &[Vec3], indices: &[[u32; 3]]) -> Vec<Vec3> {
     let mut acc = vec![glam::DVec3::ZERO; positions.len()];
     for tri in indices {
         let Some(p) = tri

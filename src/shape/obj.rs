@@ -38,7 +38,7 @@ fn load(a: &mut Args, parent: crate::math::Transform) -> Result<super::Parts, Sc
 }
 
 /// Reads an OBJ file.
-pub fn read_obj(path: &Path) -> Result<MeshData, LoadError> {
+pub(crate) fn read_obj(path: &Path) -> Result<MeshData, LoadError> {
     let bytes = read_file(path)?;
     parse_obj(&bytes, path)
 }
@@ -67,7 +67,7 @@ impl Hasher for KeyHasher {
 const NONE: u32 = u32::MAX;
 
 /// Parses OBJ text; `path` only names the source in errors.
-pub fn parse_obj(bytes: &[u8], path: &Path) -> Result<MeshData, LoadError> {
+pub(crate) fn parse_obj(bytes: &[u8], path: &Path) -> Result<MeshData, LoadError> {
     let err = |line: usize, message: String| LoadError::Syntax {
         path: path.to_path_buf(),
         line,

@@ -205,7 +205,7 @@ impl Body<'_> {
 }
 
 /// Parses PLY bytes; `path` only names the source in errors.
-pub fn parse_ply(bytes: &[u8], path: &Path) -> Result<MeshData, LoadError> {
+pub(crate) fn parse_ply(bytes: &[u8], path: &Path) -> Result<MeshData, LoadError> {
     let (format, elements, body_start, header_lines) = parse_header(bytes, path)?;
     let mut body = Body {
         data: &bytes[body_start..],

@@ -200,14 +200,6 @@ impl Bitmap {
         let c = self.rgb(uv);
         (c[0] + c[1] + c[2]) / 3.0
     }
-
-    /// Largest channel value anywhere.
-    pub fn max_value(&self) -> f32 {
-        self.rgb
-            .iter()
-            .flat_map(|c| c.iter().copied())
-            .fold(0.0, f32::max)
-    }
 }
 
 #[cfg(test)]

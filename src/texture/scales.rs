@@ -82,7 +82,7 @@ pub enum Layout {
 
 impl Layout {
     /// Parses the XML name.
-    pub fn from_name(s: &str) -> Option<Layout> {
+    pub(crate) fn from_name(s: &str) -> Option<Layout> {
         Some(match s {
             "hex" => Layout::Hex,
             "rows" => Layout::Rows,
@@ -352,7 +352,7 @@ fn period(scale: f32) -> i32 {
 impl Scales {
     /// How many cells a UV footprint (widths along u and v) spans, along its larger axis.
     #[inline]
-    pub fn cells_across(&self, footprint: Vec2) -> f32 {
+    pub(crate) fn cells_across(&self, footprint: Vec2) -> f32 {
         let k = self.cells_per_uv();
         (footprint.x * k.x).max(footprint.y * k.y)
     }
@@ -370,7 +370,7 @@ impl Scales {
 
     /// Cell space coordinates of a UV point.
     #[inline]
-    pub fn to_cell_space(&self, uv: Vec2) -> Vec2 {
+    pub(crate) fn to_cell_space(&self, uv: Vec2) -> Vec2 {
         uv * self.cells_per_uv()
     }
 
@@ -466,7 +466,7 @@ impl Scales {
 
     /// The random id in [0, 1) of the cell under a UV point.
     #[inline]
-    pub fn id_at(&self, uv: Vec2) -> f32 {
+    pub(crate) fn id_at(&self, uv: Vec2) -> f32 {
         unit(self.nearest(uv).1)
     }
 
@@ -476,7 +476,7 @@ impl Scales {
     }
 
     /// The pattern at a UV point seen through a footprint `width` cells wide.
-    pub fn sample_filtered(&self, uv: Vec2, width: f32) -> ScaleSample {
+    pub(crate) fn sample_filtered(&self, uv: Vec2, width: f32) -> ScaleSample {
         self.evaluate(uv, width).0
     }
 
@@ -575,13 +575,13 @@ impl Scales {
 
     /// Gradient of the height with respect to (u, v), in closed form (see [`Scales::evaluate`];
     /// the tests check it against central differences).
-    pub fn gradient(&self, uv: Vec2, width: f32) -> Vec2 {
+    pub(crate) fn gradient(&self, uv: Vec2, width: f32) -> Vec2 {
         self.evaluate(uv, width).1 * self.cells_per_uv()
     }
 
     /// The random tilt of the scale at `uv`: (angle in radians, azimuth in radians measured in
     /// the tangent plane from dp/du). Uniform over a cone of half-angle `tilt`.
-    pub fn tilt_at(&self, uv: Vec2) -> (f32, f32) {
+    pub(crate) fn tilt_at(&self, uv: Vec2) -> (f32, f32) {
         let (_, h) = self.nearest(uv);
         let a = self.tilt * unit(mix(h ^ 0x1b87_3593)).sqrt();
         let phi = 2.0 * std::f32::consts::PI * unit(mix(h ^ 0xcc9e_2d51));

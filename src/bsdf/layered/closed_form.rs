@@ -405,7 +405,7 @@ impl CoatedDiffuse {
     }
 
     /// Lobes: a delta reflection off the coat and the diffuse part.
-    pub fn flags(&self) -> BxdfFlags {
+    pub(crate) fn flags(&self) -> BxdfFlags {
         BxdfFlags::SPECULAR_REFLECTION | BxdfFlags::DIFFUSE_REFLECTION
     }
 
@@ -460,7 +460,7 @@ impl CoatedDiffuse {
     }
 
     /// Exact density of the non-delta samples.
-    pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+    pub(crate) fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
         if wo.z <= 0.0 || wi.z <= 0.0 || self.k_norm <= 0.0 {
             return 0.0;
         }

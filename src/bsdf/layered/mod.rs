@@ -270,7 +270,7 @@ fn query_rng(seed: u64, a: Vec3, b: Vec3, c: f32) -> Pcg32 {
 
 /// The coat optics of an interface the closed form can handle (a smooth dielectric with unit
 /// factors; thin-film coats plug in here).
-pub fn coat_optics(b: &Bxdf) -> Option<CoatOptics> {
+pub(crate) fn coat_optics(b: &Bxdf) -> Option<CoatOptics> {
     use crate::bsdf::filmfresnel::FilmMode;
     match b {
         Bxdf::Dielectric(d) if d.r_s == SampledSpectrum::ONE && d.t_s == SampledSpectrum::ONE => {
@@ -330,7 +330,7 @@ impl LayeredBxdf {
     }
 
     /// Lobe flags.
-    pub fn flags(&self) -> BxdfFlags {
+    pub(crate) fn flags(&self) -> BxdfFlags {
         match &self.model {
             LayeredModel::Closed(c) => c.flags(),
             LayeredModel::Walk(s) => {
@@ -374,7 +374,7 @@ impl LayeredBxdf {
     }
 
     /// Sampling density (exact for the closed form, an approximation for MIS otherwise).
-    pub fn pdf(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> f32 {
+    pub(crate) fn pdf(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> f32 {
         match &self.model {
             LayeredModel::Closed(c) => c.pdf(wo, wi),
             LayeredModel::Walk(s) => {

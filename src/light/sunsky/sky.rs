@@ -100,7 +100,7 @@ impl SkyLight {
     }
 
     /// Radiance seen along the escaping direction `dir` (world space).
-    pub fn le(&self, dir: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
+    pub(crate) fn le(&self, dir: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
         let Some(m) = &self.model else {
             return SampledSpectrum::ZERO;
         };
@@ -111,7 +111,7 @@ impl SkyLight {
     }
 
     /// Solid-angle density of [`Self::sample_li`] producing the world direction `wi`.
-    pub fn pdf_li(&self, wi: Vec3) -> f32 {
+    pub(crate) fn pdf_li(&self, wi: Vec3) -> f32 {
         if self.model.is_none() {
             return 0.0;
         }

@@ -18,9 +18,9 @@ use crate::spectrum::spectra::blackbody;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, LAMBDA_MAX, LAMBDA_MIN};
 
 /// The sun's mean angular radius seen from the earth, degrees.
-pub const SUN_ANGULAR_RADIUS_DEG: f64 = 0.2667;
+pub(crate) const SUN_ANGULAR_RADIUS_DEG: f64 = 0.2667;
 /// The sun's effective temperature, kelvin.
-pub const SUN_TEMPERATURE: f32 = 5778.0;
+pub(crate) const SUN_TEMPERATURE: f32 = 5778.0;
 /// Directions within this relative margin of the disk's edge (in sin² of the angle) count as on
 /// the disk, so that a direction the sampler drew never falls off it by rounding.
 const EDGE_MARGIN: f32 = 1e-3;
@@ -145,12 +145,13 @@ impl SunLight {
     }
 
     /// Whether the sun is a directional (delta) light.
-    pub fn is_delta(&self) -> bool {
+    pub(crate) fn is_delta(&self) -> bool {
         self.delta
     }
 
+    #[cfg(test)]
     /// Solid angle of the disk (0 for a delta sun).
-    pub fn solid_angle(&self) -> f32 {
+    pub(crate) fn solid_angle(&self) -> f32 {
         self.solid_angle
     }
 
@@ -173,7 +174,7 @@ impl SunLight {
     }
 
     /// Radiance seen along the escaping direction `dir` (zero off the disk).
-    pub fn le(&self, dir: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
+    pub(crate) fn le(&self, dir: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
         if self.delta || !self.on_disk(dir) {
             return SampledSpectrum::ZERO;
         }
@@ -181,7 +182,7 @@ impl SunLight {
     }
 
     /// Solid-angle density of [`Self::sample_li`] producing `wi` (0 for a delta sun).
-    pub fn pdf_li(&self, wi: Vec3) -> f32 {
+    pub(crate) fn pdf_li(&self, wi: Vec3) -> f32 {
         if self.delta || self.spectrum.scale == 0.0 || !self.on_disk(wi) {
             return 0.0;
         }

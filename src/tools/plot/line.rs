@@ -20,9 +20,10 @@ pub struct PlotArea {
 }
 
 impl PlotArea {
+    #[cfg(test)]
     /// The pixel the data point (x, y) is drawn at: the ranges' ends fall on the first and
     /// last pixel of the rectangle, rounded as plotters rounds.
-    pub fn to_pixel(&self, x: f64, y: f64) -> (i64, i64) {
+    pub(crate) fn to_pixel(self, x: f64, y: f64) -> (i64, i64) {
         let (x0, x1) = self.x_range;
         let (y0, y1) = self.y_range;
         let u = (x - x0) / (x1 - x0) * (self.width - 1) as f64;
@@ -158,7 +159,7 @@ impl LineChart {
 
     /// The ranges shown: the given ones when valid, else the finite data's extent (a unit
     /// interval around it when it is a single value, (0, 1) when there is none).
-    pub fn ranges(&self) -> ((f64, f64), (f64, f64)) {
+    pub(crate) fn ranges(&self) -> ((f64, f64), (f64, f64)) {
         let pts = self.series.iter().flat_map(|s| s.points.iter());
         let finite = pts.filter(|p| p.0.is_finite() && p.1.is_finite());
         let (mut xl, mut xh, mut yl, mut yh) =
@@ -190,7 +191,7 @@ impl LineChart {
     }
 
     /// Draws the chart over all of `fig`; returns where the plotting rectangle went.
-    pub fn draw(&self, fig: &mut Figure) -> Result<PlotArea, PlotError> {
+    pub(crate) fn draw(&self, fig: &mut Figure) -> Result<PlotArea, PlotError> {
         let s = text_scale(fig.width(), fig.height());
         let (xr, yr) = self.ranges();
         let root = fig.area();

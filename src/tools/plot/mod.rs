@@ -12,7 +12,7 @@ mod sheet;
 
 pub use line::{LineChart, PlotArea};
 pub use map::{color_map, heat};
-pub use polar::{PolarArea, PolarChart};
+pub(crate) use polar::PolarChart;
 pub use sheet::{contact_sheet, MISSING};
 
 use crate::image_io::{linear_to_srgb, srgb_to_linear, write_png, ImageError, RgbImage};
@@ -21,7 +21,7 @@ use plotters::prelude::*;
 use std::path::Path;
 
 /// Eight distinct series colours (sRGB), chosen to stay apart on white and in print.
-pub const PALETTE: [RGBColor; 8] = [
+pub(crate) const PALETTE: [RGBColor; 8] = [
     RGBColor(0, 89, 191),    // blue
     RGBColor(242, 140, 0),   // orange
     RGBColor(25, 153, 51),   // green
@@ -97,7 +97,7 @@ impl Figure {
     }
 
     /// The figure as a linear-RGB image (exactly what `write_png` turns back into these bytes).
-    pub fn to_image(&self) -> RgbImage {
+    pub(crate) fn to_image(&self) -> RgbImage {
         let lut: Vec<f32> = (0..256).map(|i| srgb_to_linear(i as f32 / 255.0)).collect();
         RgbImage {
             width: self.width as usize,

@@ -11,7 +11,7 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 /// Lobes as (angle in degrees, value) series over a half disc, with grid rings and a legend.
 #[derive(Clone, Debug, Default)]
-pub struct PolarChart {
+pub(crate) struct PolarChart {
     pub title: String,
     /// What the radius shows, written under the chart (e.g. "f·cos θ").
     pub r_label: String,
@@ -25,7 +25,7 @@ pub struct PolarChart {
 
 /// Where the half disc landed on a figure: centre and radius in pixels, value at the rim.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PolarArea {
+pub(crate) struct PolarArea {
     pub cx: f64,
     pub cy: f64,
     pub radius: f64,
@@ -33,8 +33,9 @@ pub struct PolarArea {
 }
 
 impl PolarArea {
+    #[cfg(test)]
     /// Pixel position of the value `r` at `angle_deg` (the value clamped to [0, r_max]).
-    pub fn to_pixel(&self, angle_deg: f64, r: f64) -> (f64, f64) {
+    pub(crate) fn to_pixel(self, angle_deg: f64, r: f64) -> (f64, f64) {
         let rp = r.clamp(0.0, self.r_max) / self.r_max * self.radius;
         let t = angle_deg.to_radians();
         (self.cx + rp * t.sin(), self.cy - rp * t.cos())
@@ -95,7 +96,7 @@ impl PolarChart {
     }
 
     /// Draws the chart over all of `fig`; returns where the half disc went.
-    pub fn draw(&self, fig: &mut Figure) -> Result<PolarArea, PlotError> {
+    pub(crate) fn draw(&self, fig: &mut Figure) -> Result<PolarArea, PlotError> {
         let s = text_scale(fig.width(), fig.height());
         let (label, pad) = (font(14.0 * s), (6.0 * s) as i32);
         let th = (16.0 * s) as i32;
