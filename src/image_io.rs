@@ -463,9 +463,8 @@ pub fn write_exr_channels(
     finish_exr(path, encode_exr!(Image::from_layer(layer)))
 }
 
-/// The names of the channels in an OpenEXR file's first layer, sorted as stored.
-pub fn read_exr_channel_names(path: impl AsRef<Path>) -> Result<Vec<String>, ImageError> {
-    let path = path.as_ref();
+/// The headers of an OpenEXR file, without its pixels.
+fn read_exr_meta(path: &Path) -> Result<exr::meta::MetaData, ImageError> {
     let bytes = read_bytes(path)?;
     if !bytes.starts_with(&EXR_MAGIC) {
         return Err(ImageError::NotTheFormat {
@@ -473,8 +472,13 @@ pub fn read_exr_channel_names(path: impl AsRef<Path>) -> Result<Vec<String>, Ima
             expected: "OpenEXR",
         });
     }
-    let meta = exr::meta::MetaData::read_from_buffered(Cursor::new(&bytes), false)
-        .map_err(|e| exr_error(path, e))?;
+    exr::meta::MetaData::read_from_buffered(Cursor::new(&bytes), false)
+        .map_err(|e| exr_error(path, e))
+}
+
+/// The names of the channels in an OpenEXR file's first layer, sorted as stored.
+pub fn read_exr_channel_names(path: impl AsRef<Path>) -> Result<Vec<String>, ImageError> {
+    let meta = read_exr_meta(path.as_ref())?;
     Ok(meta
         .headers
         .first()
@@ -485,16 +489,7 @@ pub fn read_exr_channel_names(path: impl AsRef<Path>) -> Result<Vec<String>, Ima
 /// The string attributes in an OpenEXR file's first header, sorted by name.
 pub fn read_exr_metadata(path: impl AsRef<Path>) -> Result<Vec<(String, String)>, ImageError> {
     use exr::meta::attribute::AttributeValue;
-    let path = path.as_ref();
-    let bytes = read_bytes(path)?;
-    if !bytes.starts_with(&EXR_MAGIC) {
-        return Err(ImageError::NotTheFormat {
-            path: path.to_path_buf(),
-            expected: "OpenEXR",
-        });
-    }
-    let meta = exr::meta::MetaData::read_from_buffered(Cursor::new(&bytes), false)
-        .map_err(|e| exr_error(path, e))?;
+    let meta = read_exr_meta(path.as_ref())?;
     let mut out = Vec::new();
     if let Some(h) = meta.headers.first() {
         let others = h

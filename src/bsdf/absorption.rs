@@ -81,12 +81,9 @@ impl AbsorptionBxdf {
             tau: sigma_a * thickness,
         }
     }
+    /// A Lambertian base's: the slab only dims it.
     pub(crate) fn flags(&self) -> BxdfFlags {
-        if self.rho.is_black() {
-            BxdfFlags::NONE
-        } else {
-            BxdfFlags::DIFFUSE_REFLECTION
-        }
+        super::diffuse::DiffuseBxdf::new(self.rho).flags()
     }
     pub fn f(&self, wo: Vec3, wi: Vec3) -> SampledSpectrum {
         if wo.z <= 0.0 || wi.z <= 0.0 {

@@ -449,6 +449,29 @@ pub fn albedo(
 }
 
 #[cfg(test)]
+/// Asserts that a lossless BxDF returns all the energy it receives: in importance mode (no 1/η²
+/// factor) its albedo, reflection and transmission together, is 1 within 4σ at each incident
+/// polar angle `thetas` (degrees, negative from below) and azimuth `phi`, over `n` samples.
+pub(crate) fn assert_keeps_all_energy(b: &Bxdf, thetas: &[f32], phi: f32, n: usize, what: &str) {
+    for &theta in thetas {
+        let a = albedo(
+            b,
+            direction(theta, phi),
+            TransportMode::Importance,
+            n,
+            3,
+            true,
+        );
+        for e in &a {
+            assert!(
+                (e.mean - 1.0).abs() <= 4.0 * e.std_err + 1e-5,
+                "{what} θ {theta}: {a:?}"
+            );
+        }
+    }
+}
+
+#[cfg(test)]
 /// ∫ f(wo, wi) |cos θi| dwi over the sphere by uniform sampling (non-delta lobes only).
 pub(crate) fn hemispherical_integral(
     bxdf: &Bxdf,

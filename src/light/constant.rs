@@ -44,8 +44,27 @@ const COSINE_SHARE: f32 = 0.9;
 #[derive(Clone, Debug)]
 pub struct ConstantLight {
     pub radiance: Spectrum,
-    center: Vec3,
-    radius: f32,
+    sphere: SceneSphere,
+}
+
+/// The scene's bounding sphere, as the lights at infinity keep it: where their shadow rays end
+/// and what their power is spread over (the unit sphere until the scene is known).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct SceneSphere {
+    pub center: Vec3,
+    pub radius: f32,
+}
+
+impl SceneSphere {
+    pub(crate) const fn new(center: Vec3, radius: f32) -> SceneSphere {
+        SceneSphere { center, radius }
+    }
+}
+
+impl Default for SceneSphere {
+    fn default() -> Self {
+        SceneSphere::new(Vec3::ZERO, 1.0)
+    }
 }
 
 impl ConstantLight {
@@ -53,14 +72,12 @@ impl ConstantLight {
     pub fn new(radiance: Spectrum) -> ConstantLight {
         ConstantLight {
             radiance,
-            center: Vec3::ZERO,
-            radius: 1.0,
+            sphere: SceneSphere::default(),
         }
     }
 
     pub(crate) fn set_scene_sphere(&mut self, c: Vec3, r: f32) {
-        self.center = c;
-        self.radius = r;
+        self.sphere = SceneSphere::new(c, r);
     }
 
     pub(crate) fn sample_li(
@@ -88,7 +105,7 @@ impl ConstantLight {
             l: self.radiance.sample(wl),
             wi,
             pdf,
-            p_light: point_at_infinity(ctx.p, wi, self.center, self.radius),
+            p_light: point_at_infinity(ctx.p, wi, self.sphere.center, self.sphere.radius),
             is_delta: false,
         })
     }
@@ -107,7 +124,11 @@ impl ConstantLight {
 
     /// Power falling on the scene's bounding sphere: π r² · 4π L.
     pub(crate) fn power(&self) -> f32 {
-        4.0 * PI * PI * self.radius * self.radius * super::spectrum_mean(&self.radiance)
+        4.0 * PI
+            * PI
+            * self.sphere.radius
+            * self.sphere.radius
+            * super::spectrum_mean(&self.radiance)
     }
 }
 

@@ -12,6 +12,7 @@
 //! Known limits: a delta light (next-event estimation only); the visibility point is placed
 //! beyond the scene's bounding sphere, so [`super::Light::preprocess`] must be called first.
 
+use super::constant::SceneSphere;
 use super::{point_at_infinity, Light, LightLiSample, LightSampleContext};
 use crate::math::{Vec3, PI};
 use crate::plugin::{declare, Args, DefaultValue, Param, SceneError, SpectrumKind, Ty};
@@ -48,8 +49,7 @@ pub struct DirectionalLight {
     /// Unit direction in which the light travels.
     pub direction: Vec3,
     pub irradiance: Spectrum,
-    center: Vec3,
-    radius: f32,
+    sphere: SceneSphere,
 }
 
 impl DirectionalLight {
@@ -59,14 +59,12 @@ impl DirectionalLight {
         (d != Vec3::ZERO).then_some(DirectionalLight {
             direction: d,
             irradiance,
-            center: Vec3::ZERO,
-            radius: 1.0,
+            sphere: SceneSphere::default(),
         })
     }
 
     pub(crate) fn set_scene_sphere(&mut self, c: Vec3, r: f32) {
-        self.center = c;
-        self.radius = r;
+        self.sphere = SceneSphere::new(c, r);
     }
 
     pub(crate) fn sample_li(
@@ -79,14 +77,14 @@ impl DirectionalLight {
             l: self.irradiance.sample(wl),
             wi,
             pdf: 1.0,
-            p_light: point_at_infinity(ctx.p, wi, self.center, self.radius),
+            p_light: point_at_infinity(ctx.p, wi, self.sphere.center, self.sphere.radius),
             is_delta: true,
         })
     }
 
     /// Power through the scene's bounding disk.
     pub(crate) fn power(&self) -> f32 {
-        PI * self.radius * self.radius * super::spectrum_mean(&self.irradiance)
+        PI * self.sphere.radius * self.sphere.radius * super::spectrum_mean(&self.irradiance)
     }
 }
 

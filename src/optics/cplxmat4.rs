@@ -78,22 +78,7 @@ impl CM4 {
         }
     }
 
-    #[inline(always)]
-    fn pow(&self, mut n: u32) -> CM4 {
-        let (mut base, mut acc) = (*self, CM4::I);
-        while n > 0 {
-            if n & 1 == 1 {
-                acc = acc.mul(&base);
-                acc.renormalise();
-            }
-            n >>= 1;
-            if n > 0 {
-                base = base.mul(&base);
-                base.renormalise();
-            }
-        }
-        acc
-    }
+    super::pow_by_squaring!();
 
     #[inline(always)]
     fn renormalise(&mut self) {

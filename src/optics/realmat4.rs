@@ -102,23 +102,7 @@ impl RealM {
         }
     }
 
-    /// self^n by repeated squaring.
-    #[inline(always)]
-    pub(crate) fn pow(&self, mut n: u32) -> RealM {
-        let (mut base, mut acc) = (*self, RealM::I);
-        while n > 0 {
-            if n & 1 == 1 {
-                acc = acc.mul(&base);
-                acc.renormalise();
-            }
-            n >>= 1;
-            if n > 0 {
-                base = base.mul(&base);
-                base.renormalise();
-            }
-        }
-        acc
-    }
+    super::pow_by_squaring!(pub(crate));
 
     /// Keeps the entries below 2^400 (lanes whose product grew are divided by a power of two).
     #[inline(always)]

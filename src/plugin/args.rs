@@ -161,6 +161,43 @@ impl<'a> Args<'a> {
         )
     }
 
+    /// The declared default of `p` as `pick` takes it (`None`: no default of that kind), with
+    /// the name it is checked under; an error when the parameter is required.
+    fn declared<T>(
+        &self,
+        p: &Param,
+        name: &str,
+        pick: impl Fn(DefaultValue) -> Option<T>,
+    ) -> Result<Option<(T, String)>, SceneError> {
+        match p.default {
+            DefaultValue::Required => Err(self.missing(p, name)),
+            d => Ok(pick(d).map(|v| (v, p.name.to_string()))),
+        }
+    }
+
+    /// A number read (or defaulted) as `v`, after the declared check.
+    fn checked<T: Copy>(
+        &self,
+        p: &Param,
+        v: Option<(T, String)>,
+        as_f64: fn(T) -> f64,
+    ) -> Result<Option<T>, SceneError> {
+        if let Some((x, n)) = &v {
+            self.check_number(p, n, as_f64(*x))?;
+        }
+        Ok(v.map(|(x, _)| x))
+    }
+
+    /// `v`, or the error of a parameter that must be given (it has no default of its kind).
+    fn given<T>(&self, name: &str, v: Option<T>) -> Result<T, SceneError> {
+        v.ok_or_else(|| {
+            self.missing(
+                self.info.param(name).expect("declared: param() succeeded"),
+                name,
+            )
+        })
+    }
+
     /// A float (integers accepted), or `None` when absent and the default is not a number.
     pub(crate) fn float_opt(&self, name: &str) -> Result<Option<f32>, SceneError> {
         let p = self.param(name)?;
@@ -169,26 +206,17 @@ impl<'a> Args<'a> {
                 Some(v) => Some((v, n)),
                 None => return Err(self.node.props.type_error(&n, "a float")),
             },
-            None => match p.default {
-                DefaultValue::Float(v) => Some((v, p.name.to_string())),
-                DefaultValue::Required => return Err(self.missing(p, name)),
+            None => self.declared(p, name, |d| match d {
+                DefaultValue::Float(v) => Some(v),
                 _ => None,
-            },
+            })?,
         };
-        if let Some((v, n)) = &v {
-            self.check_number(p, n, *v as f64)?;
-        }
-        Ok(v.map(|(v, _)| v))
+        self.checked(p, v, f64::from)
     }
 
     /// A float; the declaration must give a numeric default or require the value.
     pub fn float(&self, name: &str) -> Result<f32, SceneError> {
-        self.float_opt(name)?.ok_or_else(|| {
-            self.missing(
-                self.info.param(name).expect("declared: param() succeeded"),
-                name,
-            )
-        })
+        self.given(name, self.float_opt(name)?)
     }
 
     /// An integer, or `None` when absent without a default.
@@ -196,26 +224,17 @@ impl<'a> Args<'a> {
         let p = self.param(name)?;
         let v = match self.present(p, name)? {
             Some(n) => self.node.props.get_int_opt(&n)?.map(|v| (v, n)),
-            None => match p.default {
-                DefaultValue::Int(v) => Some((v, p.name.to_string())),
-                DefaultValue::Required => return Err(self.missing(p, name)),
+            None => self.declared(p, name, |d| match d {
+                DefaultValue::Int(v) => Some(v),
                 _ => None,
-            },
+            })?,
         };
-        if let Some((v, n)) = &v {
-            self.check_number(p, n, *v as f64)?;
-        }
-        Ok(v.map(|(v, _)| v))
+        self.checked(p, v, |v| v as f64)
     }
 
     /// An integer with a declared default.
     pub fn int(&self, name: &str) -> Result<i64, SceneError> {
-        self.int_opt(name)?.ok_or_else(|| {
-            self.missing(
-                self.info.param(name).expect("declared: param() succeeded"),
-                name,
-            )
-        })
+        self.given(name, self.int_opt(name)?)
     }
 
     /// A boolean (declared default when absent).
@@ -235,11 +254,10 @@ impl<'a> Args<'a> {
         let p = self.param(name)?;
         let v = match self.present(p, name)? {
             Some(n) => self.node.props.get_string_opt(&n)?.map(|s| (s, n)),
-            None => match p.default {
-                DefaultValue::Str(s) => Some((s.to_string(), p.name.to_string())),
-                DefaultValue::Required => return Err(self.missing(p, name)),
+            None => self.declared(p, name, |d| match d {
+                DefaultValue::Str(s) => Some(s.to_string()),
                 _ => None,
-            },
+            })?,
         };
         if let (Some((s, _)), Check::OneOf(allowed)) = (&v, p.check) {
             if !allowed.contains(&s.as_str()) {
@@ -253,12 +271,7 @@ impl<'a> Args<'a> {
 
     /// A string with a declared default.
     pub fn string(&self, name: &str) -> Result<String, SceneError> {
-        self.string_opt(name)?.ok_or_else(|| {
-            self.missing(
-                self.info.param(name).expect("declared: param() succeeded"),
-                name,
-            )
-        })
+        self.given(name, self.string_opt(name)?)
     }
 
     /// A file name resolved against the folder of the file that declared it.
@@ -357,12 +370,7 @@ impl<'a> Args<'a> {
 
     /// A spectrum value with a declared default.
     pub fn spectrum(&self, name: &str) -> Result<Spectrum, SceneError> {
-        self.spectrum_opt(name)?.ok_or_else(|| {
-            self.missing(
-                self.info.param(name).expect("declared: param() succeeded"),
-                name,
-            )
-        })
+        self.given(name, self.spectrum_opt(name)?)
     }
 
     /// The nested or referenced texture given as `name`, if any.

@@ -2,14 +2,7 @@ use super::*;
 use crate::math::{warp, Pcg32};
 
 fn hit(c: &Cylinder, ray: &Ray) -> Option<SurfaceInteraction> {
-    let (t, uv) = c.intersect(ray)?;
-    let h = Hit {
-        t,
-        shape: 0,
-        prim: 0,
-        uv,
-    };
-    Some(c.interaction(&h, ray))
+    crate::shape::test_util::first_hit(c.intersect(ray), |h| c.interaction(h, ray))
 }
 
 /// Radius 1, axis from (0, 0, 0) to (0, 0, 2).

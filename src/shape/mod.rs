@@ -67,6 +67,8 @@ pub mod rectangle;
 pub mod serialized;
 pub mod snake;
 pub mod sphere;
+#[cfg(test)]
+mod test_util;
 pub mod torus;
 
 pub use cylinder::Cylinder;

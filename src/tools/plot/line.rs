@@ -2,8 +2,7 @@
 //! frame and a legend (the R(λ) curves of `ophis thinfilm --plot`).
 
 use super::{
-    font, text_scale, tick_label, tick_step, valid_range, Figure, PlotError, Series, GRID,
-    MID_GREY, PALETTE,
+    font, text_scale, tick_label, tick_step, valid_range, Figure, PlotError, Series, GRID, MID_GREY,
 };
 use plotters::prelude::*;
 
@@ -148,12 +147,7 @@ impl LineChart {
 
     /// Adds a series coloured from `PALETTE` in turn.
     pub fn add(&mut self, label: &str, points: Vec<(f64, f64)>) -> &mut LineChart {
-        let color = PALETTE[self.series.len() % PALETTE.len()];
-        self.series.push(Series {
-            label: label.into(),
-            color,
-            points,
-        });
+        Series::push(&mut self.series, label, points);
         self
     }
 
@@ -255,6 +249,7 @@ impl LineChart {
 
 #[cfg(test)]
 mod tests {
+    use super::super::PALETTE;
     use super::*;
 
     fn rgb(c: RGBColor) -> [u8; 3] {

@@ -60,6 +60,18 @@ pub struct Series {
     pub points: Vec<(f64, f64)>,
 }
 
+impl Series {
+    /// Appends a series to a chart's `list`, coloured from `PALETTE` in turn.
+    fn push(list: &mut Vec<Series>, label: &str, points: Vec<(f64, f64)>) {
+        let color = PALETTE[list.len() % PALETTE.len()];
+        list.push(Series {
+            label: label.into(),
+            color,
+            points,
+        });
+    }
+}
+
 /// A picture being drawn: `width` × `height` pixels of 8-bit sRGB, row-major, top row first.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Figure {

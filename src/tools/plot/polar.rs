@@ -3,9 +3,7 @@
 //! Plotters has no polar coordinates, so the chart is a Cartesian one with equal pixel scales
 //! on both axes and the rings, spokes and lobes are drawn as curves in it.
 
-use super::{
-    font, text_scale, tick_label, tick_step, Figure, PlotError, Series, GRID, MID_GREY, PALETTE,
-};
+use super::{font, text_scale, tick_label, tick_step, Figure, PlotError, Series, GRID, MID_GREY};
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
@@ -60,12 +58,7 @@ impl PolarChart {
 
     /// Adds a series coloured from `PALETTE` in turn.
     pub fn add(&mut self, label: &str, points: Vec<(f64, f64)>) -> &mut PolarChart {
-        let color = PALETTE[self.series.len() % PALETTE.len()];
-        self.series.push(Series {
-            label: label.into(),
-            color,
-            points,
-        });
+        Series::push(&mut self.series, label, points);
         self
     }
 
@@ -205,6 +198,7 @@ impl PolarChart {
 
 #[cfg(test)]
 mod tests {
+    use super::super::PALETTE;
     use super::*;
 
     #[test]
