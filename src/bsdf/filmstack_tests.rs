@@ -4,8 +4,8 @@
 //! loader's syntax and errors.
 
 use super::testing::{
-    albedo, assert_keeps_all_energy, chi2_test, direction, hemispherical_integral,
-    reciprocity_error, Chi2Config,
+    albedo, assert_keeps_all_energy, assert_reciprocal, chi2_test, direction,
+    hemispherical_integral, Chi2Config,
 };
 use super::{Bxdf, BxdfFlags, Material, TransportMode};
 use crate::math::{Vec2, Vec3};
@@ -203,20 +203,7 @@ fn rough_stack_is_consistent_reciprocal_and_bounded() {
     // sees its index per wavelength, which breaks exact reciprocity of transmission by ~1 %:
     // the documented limit.
     let b = rough("<float name=\"int_ior\" value=\"1.55\"/>");
-    let mut rng = crate::math::Pcg32::new(5, 5);
-    let mut checked = 0;
-    for _ in 0..2000 {
-        let a = crate::math::warp::square_to_uniform_sphere(rng.next_vec2());
-        let c = crate::math::warp::square_to_uniform_sphere(rng.next_vec2());
-        // As for one film: values below 1e-3 are dominated by the f32 rounding of the angles.
-        if b.f(a, c, TransportMode::Radiance).max_value() < 1e-3 {
-            continue;
-        }
-        checked += 1;
-        let e = reciprocity_error(&b, a, c);
-        assert!(e < 2e-3, "{a:?} {c:?}: {e}");
-    }
-    assert!(checked > 100, "{checked}");
+    assert_reciprocal(&b, 2000, 5, 100);
 }
 
 #[test]

@@ -397,6 +397,17 @@ impl Estimate {
         }
     }
     #[cfg(test)]
+    /// The mean of `n` draws of `x` and its standard error.
+    pub(crate) fn of(n: usize, mut x: impl FnMut() -> f64) -> Estimate {
+        let (mut s, mut s2) = (0.0f64, 0.0f64);
+        for _ in 0..n {
+            let v = x();
+            s += v;
+            s2 += v * v;
+        }
+        Estimate::from_sums(s, s2, n)
+    }
+    #[cfg(test)]
     /// Whether two independent estimates agree within `k` combined standard errors.
     pub(crate) fn agrees_with(&self, o: &Estimate, k: f64) -> bool {
         (self.mean - o.mean).abs() <= k * (self.std_err.powi(2) + o.std_err.powi(2)).sqrt()
@@ -446,6 +457,26 @@ pub fn albedo(
         },
         n,
     )
+}
+
+#[cfg(test)]
+/// Asserts reciprocity (see [`reciprocity_error`], below 2·10⁻³) between `n` pairs of uniform
+/// random directions from the stream `seed`, of which at least `min_checked` must carry
+/// f ≥ 10⁻³ (below that, values are dominated by the f32 rounding of the angles).
+pub(crate) fn assert_reciprocal(b: &Bxdf, n: usize, seed: u64, min_checked: usize) {
+    let mut rng = Pcg32::new(seed, seed);
+    let mut checked = 0;
+    for _ in 0..n {
+        let a = warp::square_to_uniform_sphere(rng.next_vec2());
+        let c = warp::square_to_uniform_sphere(rng.next_vec2());
+        if b.f(a, c, TransportMode::Radiance).max_value() < 1e-3 {
+            continue;
+        }
+        checked += 1;
+        let e = reciprocity_error(b, a, c);
+        assert!(e < 2e-3, "{a:?} {c:?}: {e}");
+    }
+    assert!(checked > min_checked, "{checked}");
 }
 
 #[cfg(test)]

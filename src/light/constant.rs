@@ -15,7 +15,8 @@
 //! Known limits: the visibility point is placed beyond the scene's bounding sphere, so
 //! [`super::Light::preprocess`] must be called first.
 
-use super::{point_at_infinity, Light, LightLiSample, LightSampleContext};
+use super::infinite::SceneSphere;
+use super::{Light, LightLiSample, LightSampleContext};
 use crate::plugin::{declare, Args, DefaultValue, Param, SceneError, SpectrumKind, Ty};
 
 declare!(
@@ -45,26 +46,6 @@ const COSINE_SHARE: f32 = 0.9;
 pub struct ConstantLight {
     pub radiance: Spectrum,
     sphere: SceneSphere,
-}
-
-/// The scene's bounding sphere, as the lights at infinity keep it: where their shadow rays end
-/// and what their power is spread over (the unit sphere until the scene is known).
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct SceneSphere {
-    pub center: Vec3,
-    pub radius: f32,
-}
-
-impl SceneSphere {
-    pub(crate) const fn new(center: Vec3, radius: f32) -> SceneSphere {
-        SceneSphere { center, radius }
-    }
-}
-
-impl Default for SceneSphere {
-    fn default() -> Self {
-        SceneSphere::new(Vec3::ZERO, 1.0)
-    }
 }
 
 impl ConstantLight {
@@ -105,7 +86,7 @@ impl ConstantLight {
             l: self.radiance.sample(wl),
             wi,
             pdf,
-            p_light: point_at_infinity(ctx.p, wi, self.sphere.center, self.sphere.radius),
+            p_light: self.sphere.beyond(ctx.p, wi),
             is_delta: false,
         })
     }

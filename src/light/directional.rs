@@ -12,8 +12,8 @@
 //! Known limits: a delta light (next-event estimation only); the visibility point is placed
 //! beyond the scene's bounding sphere, so [`super::Light::preprocess`] must be called first.
 
-use super::constant::SceneSphere;
-use super::{point_at_infinity, Light, LightLiSample, LightSampleContext};
+use super::infinite::SceneSphere;
+use super::{Light, LightLiSample, LightSampleContext};
 use crate::math::{Vec3, PI};
 use crate::plugin::{declare, Args, DefaultValue, Param, SceneError, SpectrumKind, Ty};
 use crate::spectrum::{SampledWavelengths, Spectrum};
@@ -77,7 +77,7 @@ impl DirectionalLight {
             l: self.irradiance.sample(wl),
             wi,
             pdf: 1.0,
-            p_light: point_at_infinity(ctx.p, wi, self.sphere.center, self.sphere.radius),
+            p_light: self.sphere.beyond(ctx.p, wi),
             is_delta: true,
         })
     }

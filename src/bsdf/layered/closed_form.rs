@@ -165,6 +165,22 @@ pub(crate) fn refracted_cos(mu: f32, eta: f32) -> f32 {
     (1.0 - (1.0 - mu * mu) / (eta * eta)).max(0.0).sqrt()
 }
 
+/// The critical cosines of a coat of relative index `eta`: inside, below which light cannot
+/// leave (0 when η ≤ 1), and outside, below which it cannot enter (0 when η ≥ 1).
+fn critical_cosines(eta: f64) -> (f64, f64) {
+    let inside = if eta > 1.0 {
+        (1.0 - 1.0 / (eta * eta)).sqrt()
+    } else {
+        0.0
+    };
+    let outside = if eta < 1.0 {
+        (1.0 - eta * eta).sqrt()
+    } else {
+        0.0
+    };
+    (inside, outside)
+}
+
 /// E, R_r and K (see the module header) of a film coat at one wavelength, by quadrature.
 pub(crate) fn film_integrals_1(
     eta: f64,
@@ -173,16 +189,7 @@ pub(crate) fn film_integrals_1(
     lambda: f64,
     tau: f64,
 ) -> (f64, f64, f64) {
-    let mu_c_in = if eta > 1.0 {
-        (1.0 - 1.0 / (eta * eta)).sqrt()
-    } else {
-        0.0
-    };
-    let mu_c_out = if eta < 1.0 {
-        (1.0 - eta * eta).sqrt()
-    } else {
-        0.0
-    };
+    let (mu_c_in, mu_c_out) = critical_cosines(eta);
     let n_film = Complex64::new(film, 0.0);
     let (mut e, mut r) = (0.0, 0.0);
     for (mu, w) in kinked_nodes(mu_c_in) {
@@ -367,16 +374,7 @@ impl CoatedDiffuse {
         tau: SampledSpectrum,
     ) -> (SampledSpectrum, SampledSpectrum, f32) {
         let eta = coat.eta() as f64;
-        let mu_c_in = if eta > 1.0 {
-            (1.0 - 1.0 / (eta * eta)).sqrt()
-        } else {
-            0.0
-        };
-        let mu_c_out = if eta < 1.0 {
-            (1.0 - eta * eta).sqrt()
-        } else {
-            0.0
-        };
+        let (mu_c_in, mu_c_out) = critical_cosines(eta);
         let mut escape = [0.0f64; N];
         let mut ret = [0.0f64; N];
         for (mu, w) in kinked_nodes(mu_c_in) {

@@ -12,7 +12,8 @@
 //! take a few per cent in the visible (ozone's Chappuis band near 600 nm) and more in the
 //! near infrared (O₂ at 760 nm, H₂O at 720 and 820 nm). No limb darkening.
 
-use crate::light::{point_at_infinity, LightLiSample, LightSampleContext};
+use crate::light::infinite::SceneSphere;
+use crate::light::{LightLiSample, LightSampleContext};
 use crate::math::{Frame, Vec2, Vec3, PI};
 use crate::spectrum::spectra::blackbody;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, LAMBDA_MAX, LAMBDA_MIN};
@@ -99,8 +100,7 @@ pub struct SunLight {
     /// Radiance, or for a delta sun the irradiance.
     spectrum: SunSpectrum,
     delta: bool,
-    center: Vec3,
-    radius: f32,
+    sphere: SceneSphere,
 }
 
 impl SunLight {
@@ -139,8 +139,7 @@ impl SunLight {
             solid_angle: omega as f32,
             spectrum: SunSpectrum::new(t, theta_s, scale * factor as f32),
             delta,
-            center: Vec3::ZERO,
-            radius: 1.0,
+            sphere: SceneSphere::default(),
         })
     }
 
@@ -161,8 +160,7 @@ impl SunLight {
     }
 
     pub(crate) fn set_scene_sphere(&mut self, c: Vec3, r: f32) {
-        self.center = c;
-        self.radius = r;
+        self.sphere = SceneSphere::new(c, r);
     }
 
     /// Whether the world direction `d` is on the disk.
@@ -219,7 +217,7 @@ impl SunLight {
             l,
             wi,
             pdf,
-            p_light: point_at_infinity(ctx.p, wi, self.center, self.radius),
+            p_light: self.sphere.beyond(ctx.p, wi),
             is_delta: self.delta,
         })
     }
@@ -231,7 +229,7 @@ impl SunLight {
         } else {
             self.spectrum.mean() * self.solid_angle
         };
-        PI * self.radius * self.radius * e
+        PI * self.sphere.radius * self.sphere.radius * e
     }
 }
 
