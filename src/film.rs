@@ -38,9 +38,7 @@ pub(crate) const MAX_RESOLUTION: i64 = 1 << 15;
 /// Mitsuba's default image size, also used without a `<film>`.
 const DEFAULT_SIZE: (i64, i64) = (768, 576);
 
-declare!(
-    /// The `hdrfilm` plugin.
-    pub(crate) PLUGIN: FilmSettings = Film "hdrfilm" ["ldrfilm"]
+declare!(PLUGIN: FilmSettings = Film "hdrfilm" ["ldrfilm"]
     "the image: XYZ accumulation developed to linear sRGB (EXR) or sRGB (PNG)"
     [&[
         Param::int("width", DEFAULT_SIZE.0)

@@ -28,33 +28,22 @@
 
 use super::{BsdfSample, BxdfFlags, Material};
 use crate::math::{warp, Vec2, Vec3, INV_PI};
-use crate::plugin::{declare, Args, Check, DefaultValue, Param, SceneError, SpectrumKind, Ty};
+use crate::plugin::{declare, Args, Check, Param, SceneError};
 use crate::spectrum::SampledSpectrum;
 
 /// The parameters.
 const PARAMS: &[Param] = &[
-    Param::new(
-        "reflectance",
-        Ty::SpectrumTexture(SpectrumKind::Albedo),
-        DefaultValue::Float(0.5),
-    )
-    .doc("albedo of the base"),
-    Param::new(
-        "sigma_a",
-        Ty::SpectrumTexture(SpectrumKind::Unbounded),
-        DefaultValue::Float(0.0),
-    )
-    .v06("sigmaA")
-    .unit("1/(unit of `thickness`)")
-    .doc("absorption coefficient"),
+    Param::reflectance("reflectance", 0.5).doc("albedo of the base"),
+    Param::coefficient("sigma_a", 0.0)
+        .v06("sigmaA")
+        .unit("1/(unit of `thickness`)")
+        .doc("absorption coefficient"),
     Param::float("thickness", 1.0)
         .check(Check::NonNegative)
         .doc("thickness of the layer"),
 ];
 
-declare!(
-    /// The `absorption` plugin.
-    pub(crate) PLUGIN: Material = Bsdf "absorption" ["Absorption"]
+declare!(PLUGIN: Material = Bsdf "absorption" ["Absorption"]
     "the thesis's pigment layer: Beer–Lambert absorption over a Lambertian base"
     [PARAMS] load);
 

@@ -42,9 +42,7 @@ use crate::plugin::{declare, Args, DefaultValue, Param, SceneError, Tag, Ty};
 use crate::shape::SurfaceInteraction;
 use crate::texture::{FloatTexture, NormalSource, Scales, TexCoord, Texture, Want};
 
-declare!(
-    /// The `bumpmap` plugin.
-    pub(crate) PLUGIN: Material = Bsdf "bumpmap" []
+declare!(PLUGIN: Material = Bsdf "bumpmap" []
     "bump mapping: a nested BSDF with its normal displaced by a height texture"
     [&[
             Param::new("(nested texture)", Ty::Texture, DefaultValue::Required)

@@ -113,21 +113,16 @@ pub(crate) const MODE: Param = Param::string("mode", "spectral")
     .check(Check::OneOf(&["spectral", "thesis"]))
     .doc("`thesis`: the thesis's 650/510/475 nm point samples and phase term");
 /// The thesis plugins' film index: `mediumIOR`, default BK7.
-pub(crate) const THESIS_MEDIUM_IOR: Param =
-    Param::new("medium_ior", Ty::Ior, DefaultValue::Str("bk7"))
-        .also(&["film_ior"])
-        .v06("mediumIOR")
-        .doc("index of the film; `keratin` = 1.532 + 5890/λ² (λ in nm)");
+pub(crate) const THESIS_MEDIUM_IOR: Param = FILM_IOR
+    .named("medium_ior")
+    .also(&["film_ior"])
+    .v06("mediumIOR")
+    .default(DefaultValue::Str("bk7"));
 /// The thesis plugins' `thickness`, default 400 nm.
-pub(crate) const THESIS_THICKNESS: Param = Param::new(
-    "thickness",
-    Ty::FloatTexture,
-    DefaultValue::Float(THESIS_PLUGIN_FILM_THICKNESS),
-)
-.also(&["film_thickness"])
-.check(Check::Range(0.0, MAX_FILM_THICKNESS as f64))
-.unit("nm")
-.doc("thickness of the film");
+pub(crate) const THESIS_THICKNESS: Param = FILM_THICKNESS
+    .named("thickness")
+    .also(&["film_thickness"])
+    .default(DefaultValue::Float(THESIS_PLUGIN_FILM_THICKNESS));
 
 /// Reads a film from a film plugin's node: its index, thickness and mode over `base`.
 pub(crate) fn load_film(a: &mut Args, base: FilmBase) -> Result<FilmSpec, SceneError> {

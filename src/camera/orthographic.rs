@@ -24,9 +24,7 @@ use super::{Camera, Common, Sensor};
 use crate::math::{Ray, Transform, Vec2, Vec3};
 use crate::plugin::{declare, Args, SceneError};
 
-declare!(
-    /// The `orthographic` plugin.
-    pub(crate) PLUGIN: Sensor, Option<(u32, u32)> = Sensor "orthographic" []
+declare!(PLUGIN: Sensor, Option<(u32, u32)> = Sensor "orthographic" []
     "parallel projection from a planar sensor sized by `to_world`"
     [super::SENSOR] load);
 

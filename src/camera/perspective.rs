@@ -27,9 +27,7 @@ use super::{Camera, Common, Sensor};
 use crate::math::{Ray, Transform, Vec2, Vec3};
 use crate::plugin::{declare, Args, Check, DefaultValue, Param, SceneError, Ty};
 
-declare!(
-    /// The `perspective` plugin.
-    pub(crate) PLUGIN: Sensor, Option<(u32, u32)> = Sensor "perspective" []
+declare!(PLUGIN: Sensor, Option<(u32, u32)> = Sensor "perspective" []
     "pinhole camera"
     [FIELD_OF_VIEW, &[
         Param::new("focus_distance", Ty::Float, DefaultValue::Derived("`far_clip`"))

@@ -37,9 +37,7 @@ use crate::math::warp::square_to_uniform_disk_concentric;
 use crate::math::{Ray, Vec2, Vec3};
 use crate::plugin::{declare, Args, Check, DefaultValue, Param, SceneError, Ty};
 
-declare!(
-    /// The `thinlens` plugin.
-    pub(crate) PLUGIN: Sensor, Option<(u32, u32)> = Sensor "thinlens" []
+declare!(PLUGIN: Sensor, Option<(u32, u32)> = Sensor "thinlens" []
     "perspective camera with a thin lens: depth of field"
     [&[
         Param::new("aperture_radius", Ty::Float, DefaultValue::Required)

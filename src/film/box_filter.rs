@@ -12,9 +12,7 @@
 use super::Filter;
 use crate::plugin::{declare, Args, SceneError};
 
-declare!(
-    /// The `box` plugin.
-    pub(crate) PLUGIN: Filter = Rfilter "box" []
+declare!(PLUGIN: Filter = Rfilter "box" []
     "box reconstruction filter: each sample counts for its own pixel only"
     [] load);
 

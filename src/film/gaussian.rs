@@ -18,9 +18,7 @@ use crate::plugin::{declare, Args, Check, Param, SceneError};
 /// Mitsuba's default standard deviation, in pixels.
 pub(crate) const DEFAULT_STDDEV: f32 = 0.5;
 
-declare!(
-    /// The `gaussian` plugin.
-    pub(crate) PLUGIN: Filter = Rfilter "gaussian" []
+declare!(PLUGIN: Filter = Rfilter "gaussian" []
     "Gaussian reconstruction filter (the default), truncated at 4σ"
     [&[Param::float("stddev", DEFAULT_STDDEV)
         .check(Check::OpenClosed(0.0, 4.0))

@@ -12,9 +12,7 @@
 use super::Filter;
 use crate::plugin::{declare, Args, Check, Param, SceneError};
 
-declare!(
-    /// The `tent` plugin.
-    pub(crate) PLUGIN: Filter = Rfilter "tent" []
+declare!(PLUGIN: Filter = Rfilter "tent" []
     "triangle reconstruction filter"
     [&[Param::float("radius", 1.0)
         .check(Check::OpenClosed(0.0, 16.0))

@@ -115,9 +115,7 @@ pub struct AovSettings {
     pub image_name: Option<String>,
 }
 
-declare!(
-    /// The `aov` plugin.
-    pub(crate) PLUGIN: IntegratorSettings = Integrator "aov" []
+declare!(PLUGIN: IntegratorSettings = Integrator "aov" []
     "extra channels beside the image: depth, normals, UV, shape index, albedo, …"
     [&[
         Param::new("aovs", Ty::String, DefaultValue::Required)

@@ -36,9 +36,7 @@ use crate::texture::TexCoord;
 /// Most light or BSDF samples per camera sample.
 const MAX_SAMPLES: f64 = (1 << 16) as f64;
 
-declare!(
-    /// The `direct` plugin.
-    pub(crate) PLUGIN: IntegratorSettings = Integrator "direct" []
+declare!(PLUGIN: IntegratorSettings = Integrator "direct" []
     "direct illumination: light and BSDF samples at the first surface, combined by MIS"
     [&[
         Param::int("shading_samples", 1)

@@ -15,9 +15,7 @@
 use crate::plugin::{declare, registry, Args, DefaultValue, Param, SceneError, Tag, Ty};
 use crate::scene::IntegratorSettings;
 
-declare!(
-    /// The `moment` plugin.
-    pub(crate) PLUGIN: IntegratorSettings = Integrator "moment" []
+declare!(PLUGIN: IntegratorSettings = Integrator "moment" []
     "renders its (first) nested integrator; the second-moment channels are not written"
     [&[Param::new("(nested)", Ty::Object(Tag::Integrator), DefaultValue::Required)
         .doc("the integrator whose image is rendered (the first, if several)")]] load);

@@ -269,9 +269,7 @@ pub(crate) const HIDE_EMITTERS: Param = Param::bool("hide_emitters", false)
     .v06("hideEmitters")
     .doc("do not show emitters seen directly from the camera");
 
-declare!(
-    /// The `path` plugin.
-    pub(crate) PLUGIN: IntegratorSettings = Integrator "path" []
+declare!(PLUGIN: IntegratorSettings = Integrator "path" []
     "unidirectional path tracing with next-event estimation and MIS"
     [&[
         Param::int("max_depth", -1)

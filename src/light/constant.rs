@@ -17,14 +17,12 @@
 
 use super::infinite::SceneSphere;
 use super::{Light, LightLiSample, LightSampleContext};
-use crate::plugin::{declare, Args, DefaultValue, Param, SceneError, SpectrumKind, Ty};
+use crate::plugin::{declare, Args, Param, SceneError};
 
-declare!(
-    /// The `constant` plugin.
-    pub(crate) PLUGIN: Vec<Light>, Option<u32> = Emitter "constant" []
+declare!(PLUGIN: Vec<Light>, Option<u32> = Emitter "constant" []
     "uniform environment light"
     [&[
-        Param::new("radiance", Ty::Spectrum(SpectrumKind::Illuminant), DefaultValue::Float(1.0))
+        Param::emission("radiance")
             .unit("W·m⁻²·sr⁻¹·nm⁻¹")
             .doc("radiance from every direction (RGB and numbers: times D65)"),
     ]] load);

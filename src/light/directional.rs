@@ -15,15 +15,13 @@
 use super::infinite::SceneSphere;
 use super::{Light, LightLiSample, LightSampleContext};
 use crate::math::{Vec3, PI};
-use crate::plugin::{declare, Args, DefaultValue, Param, SceneError, SpectrumKind, Ty};
+use crate::plugin::{declare, Args, DefaultValue, Param, SceneError, Ty};
 use crate::spectrum::{SampledWavelengths, Spectrum};
 
-declare!(
-    /// The `directional` plugin.
-    pub(crate) PLUGIN: Vec<Light>, Option<u32> = Emitter "directional" []
+declare!(PLUGIN: Vec<Light>, Option<u32> = Emitter "directional" []
     "parallel light from infinity"
     [&[
-        Param::new("irradiance", Ty::Spectrum(SpectrumKind::Illuminant), DefaultValue::Float(1.0))
+        Param::emission("irradiance")
             .unit("W·m⁻²·nm⁻¹")
             .doc("irradiance on a surface facing the light (RGB and numbers: times D65)"),
         Param::new("direction", Ty::Vector, DefaultValue::Derived("`to_world` applied to +z"))

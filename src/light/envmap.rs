@@ -49,9 +49,7 @@ use crate::plugin::{declare, Args, Check, DefaultValue, Param, SceneError, Ty};
 use crate::spectrum::cie::d65;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
 
-declare!(
-    /// The `envmap` plugin.
-    pub(crate) PLUGIN: Vec<Light>, Option<u32> = Emitter "envmap" []
+declare!(PLUGIN: Vec<Light>, Option<u32> = Emitter "envmap" []
     "environment light from a latitude–longitude image"
     [&[
         Param::new("filename", Ty::String, DefaultValue::Required)

@@ -129,19 +129,13 @@ const SUN_RADIUS: &[Param] = &[Param::float("sun_radius_scale", 1.0)
     .v06("sunRadiusScale")
     .doc("scales the disk's angular radius (0.2667°) keeping its power; 0: a directional light")];
 
-declare!(
-    /// The `sunsky` plugin: two lights, sun and sky.
-    pub(crate) PLUGIN: Vec<Light>, Option<u32> = Emitter "sunsky" []
+declare!(PLUGIN: Vec<Light>, Option<u32> = Emitter "sunsky" []
     "Preetham's clear sky and the sun, by direction or by place and time"
     [PLACE, SUNSKY_SCALES, SUN_RADIUS] load_sunsky);
-declare!(
-    /// The `sun` plugin.
-    pub(crate) SUN_PLUGIN: Vec<Light>, Option<u32> = Emitter "sun" []
+declare!(SUN_PLUGIN: Vec<Light>, Option<u32> = Emitter "sun" []
     "the solar disk of `sunsky` alone"
     [PLACE, SCALE, SUN_RADIUS] load_sun);
-declare!(
-    /// The `sky` plugin.
-    pub(crate) SKY_PLUGIN: Vec<Light>, Option<u32> = Emitter "sky" []
+declare!(SKY_PLUGIN: Vec<Light>, Option<u32> = Emitter "sky" []
     "the clear sky of `sunsky` alone"
     [PLACE, SCALE] load_sky);
 

@@ -185,6 +185,16 @@ impl Param {
     pub const fn float(name: &'static str, default: f32) -> Param {
         Param::new(name, Ty::Float, DefaultValue::Float(default))
     }
+    /// A positive distance in world units, with a default.
+    pub const fn length(name: &'static str, default: f32) -> Param {
+        Param::float(name, default)
+            .check(Check::Positive)
+            .unit("world units")
+    }
+    /// A fraction in [0, 1], with a default.
+    pub const fn fraction(name: &'static str, default: f32) -> Param {
+        Param::float(name, default).check(Check::Range(0.0, 1.0))
+    }
     /// An integer with a default.
     pub const fn int(name: &'static str, default: i64) -> Param {
         Param::new(name, Ty::Integer, DefaultValue::Int(default))
@@ -196,6 +206,40 @@ impl Param {
     /// A string with a default.
     pub const fn string(name: &'static str, default: &'static str) -> Param {
         Param::new(name, Ty::String, DefaultValue::Str(default))
+    }
+    /// An emitted quantity: a spectrum read as an illuminant (RGB and plain numbers are times
+    /// D65, as in Mitsuba's spectral variants), 1 by default.
+    pub const fn emission(name: &'static str) -> Param {
+        Param::new(
+            name,
+            Ty::Spectrum(SpectrumKind::Illuminant),
+            DefaultValue::Float(1.0),
+        )
+    }
+    /// A reflectance in [0, 1]: a colour, a number or a texture, with a default.
+    pub const fn reflectance(name: &'static str, default: f32) -> Param {
+        Param::new(
+            name,
+            Ty::SpectrumTexture(SpectrumKind::Albedo),
+            DefaultValue::Float(default),
+        )
+    }
+    /// A colour in [0, 1] (no texture), with a default.
+    pub const fn colour(name: &'static str, default: f32) -> Param {
+        Param::new(
+            name,
+            Ty::Spectrum(SpectrumKind::Albedo),
+            DefaultValue::Float(default),
+        )
+    }
+    /// A non-negative spectral coefficient (absorption, extinction): a spectrum, a number or a
+    /// texture, with a default.
+    pub const fn coefficient(name: &'static str, default: f32) -> Param {
+        Param::new(
+            name,
+            Ty::SpectrumTexture(SpectrumKind::Unbounded),
+            DefaultValue::Float(default),
+        )
     }
     /// Other accepted spellings.
     pub const fn also(mut self, names: &'static [&'static str]) -> Param {
@@ -220,6 +264,13 @@ impl Param {
     /// One line of documentation.
     pub const fn doc(mut self, doc: &'static str) -> Param {
         self.doc = doc;
+        self
+    }
+    /// The same parameter under another name (a variant's spelling), without its other
+    /// spellings.
+    pub const fn named(mut self, name: &'static str) -> Param {
+        self.name = name;
+        self.also = &[];
         self
     }
     /// A different default (for plugin variants sharing a declaration).

@@ -312,10 +312,7 @@ impl Properties {
 
     /// A point (a `<vector>` is accepted too, as in Mitsuba 3), or `None` if absent.
     pub(crate) fn get_point_opt(&self, name: &str) -> Result<Option<Vec3>, SceneError> {
-        self.typed(name, "a point", |v| match *v {
-            Value::Point(p) | Value::Vector(p) => Some(p),
-            _ => None,
-        })
+        self.get_vec3_opt(name, "a point")
     }
 
     #[cfg(test)]
@@ -326,16 +323,16 @@ impl Properties {
 
     /// A vector (a `<point>` is accepted too, as in Mitsuba 3), or `None` if absent.
     pub(crate) fn get_vector_opt(&self, name: &str) -> Result<Option<Vec3>, SceneError> {
-        self.typed(name, "a vector", |v| match *v {
+        self.get_vec3_opt(name, "a vector")
+    }
+
+    /// A `<point>` or a `<vector>` (Mitsuba 3 takes either for the other), or `None` if absent;
+    /// `expected` words the error.
+    fn get_vec3_opt(&self, name: &str, expected: &str) -> Result<Option<Vec3>, SceneError> {
+        self.typed(name, expected, |v| match *v {
             Value::Point(p) | Value::Vector(p) => Some(p),
             _ => None,
         })
-    }
-
-    /// A vector, or `default` if absent.
-    #[cfg(test)]
-    pub(crate) fn get_vector(&self, name: &str, default: Vec3) -> Result<Vec3, SceneError> {
-        Ok(self.get_vector_opt(name)?.unwrap_or(default))
     }
 
     /// A transform, or `None` if absent.
@@ -397,7 +394,7 @@ mod tests {
         assert_eq!(p.get_int_opt("missing").unwrap(), None);
         assert!(p.get_bool("flip", false).unwrap());
         assert_eq!(
-            p.get_vector("center", Vec3::ZERO).unwrap(),
+            p.get_vector_opt("center").unwrap().unwrap(),
             Vec3::new(1.0, 2.0, 3.0)
         );
         let unq: Vec<String> = p.unqueried().into_iter().map(|(n, _)| n).collect();

@@ -29,9 +29,7 @@ pub(super) const COUNT_AND_SEED: &[Param] = &[
         .doc("seed of the random sequence (the command line's `--seed` overrides it)"),
 ];
 
-declare!(
-    /// The `independent` plugin.
-    pub(crate) PLUGIN: SamplerSettings = Sampler "independent" []
+declare!(PLUGIN: SamplerSettings = Sampler "independent" []
     "independent uniform random numbers (PCG32)"
     [COUNT_AND_SEED] load);
 

@@ -21,9 +21,7 @@ use super::SamplerKind;
 use crate::plugin::{declare, Args, SceneError};
 use crate::scene::SamplerSettings;
 
-declare!(
-    /// The `sobol` plugin.
-    pub(crate) PLUGIN: SamplerSettings = Sampler "sobol"
+declare!(PLUGIN: SamplerSettings = Sampler "sobol"
     ["stratified", "multijitter", "ldsampler", "orthogonal", "halton", "hammersley"]
     "Owen-scrambled Sobol points (Mitsuba's low-discrepancy samplers load as this one)"
     [super::independent::COUNT_AND_SEED] load);

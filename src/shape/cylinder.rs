@@ -32,9 +32,7 @@ use crate::math::{Bounds3, Frame, Mat4, Ray, Transform, Vec2, Vec3, INV_2PI, PI}
 use crate::plugin::{declare, Args, DefaultValue, Param, SceneError, Ty};
 use glam::{DVec2, DVec3};
 
-declare!(
-    /// The `cylinder` plugin.
-    pub(crate) PLUGIN: super::Parts, Transform = Shape "cylinder" []
+declare!(PLUGIN: super::Parts, Transform = Shape "cylinder" []
     "analytic cylinder side, open at both ends"
     [&[
         Param::new("p0", Ty::Point, DefaultValue::Derived("(0, 0, 0)"))

@@ -26,9 +26,7 @@ use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hasher};
 use std::path::Path;
 
-declare!(
-    /// The `obj` plugin.
-    pub(crate) PLUGIN: super::Parts, crate::math::Transform = Shape "obj" []
+declare!(PLUGIN: super::Parts, crate::math::Transform = Shape "obj" []
     "Wavefront OBJ triangle mesh"
     [super::load::MESH_FILE, &[Param::bool("flip_tex_coords", true)
         .doc("v ↦ 1 − v (Mitsuba 3 flips OBJ's, not PLY's)")], super::PLACEMENT] load);

@@ -28,9 +28,7 @@ use crate::math::{Vec2, Vec3};
 use crate::plugin::{declare, Args, Param, SceneError};
 use std::path::{Path, PathBuf};
 
-declare!(
-    /// The `ply` plugin.
-    pub(crate) PLUGIN: super::Parts, crate::math::Transform = Shape "ply" []
+declare!(PLUGIN: super::Parts, crate::math::Transform = Shape "ply" []
     "Stanford PLY triangle mesh (ASCII or binary)"
     [super::load::MESH_FILE, &[Param::bool("flip_tex_coords", false)
         .doc("v ↦ 1 − v (Mitsuba 3 flips OBJ's, not PLY's)")], super::PLACEMENT] load);

@@ -37,9 +37,7 @@ use flate2::read::ZlibDecoder;
 use std::io::Read;
 use std::path::Path;
 
-declare!(
-    /// The `serialized` plugin.
-    pub(crate) PLUGIN: super::Parts, crate::math::Transform = Shape "serialized" []
+declare!(PLUGIN: super::Parts, crate::math::Transform = Shape "serialized" []
     "a mesh of Mitsuba's compressed format (versions 3 and 4)"
     [super::load::MESH_FILE, &[Param::int("shape_index", 0)
         .check(Check::Range(0.0, 4294967295.0))

@@ -115,21 +115,15 @@ const fn part(name: &'static str, default: f32, hi: f64, unit: &'static str) -> 
         .unit(unit)
 }
 
-declare!(
-    /// The `snake` plugin: one shape per part (see the header).
-    pub(crate) PLUGIN: super::Parts, Transform = Shape "snake" []
+declare!(PLUGIN: super::Parts, Transform = Shape "snake" []
     "a procedural sunbeam snake on the ground, one mesh per part (body, belly, head, eyes)"
     [&[
         Param::string("pose", "s_curve")
             .check(Check::OneOf(&["s_curve", "coil"]))
             .doc("how it lies"),
-        Param::float("length", 4.0)
-            .check(Check::Positive)
-            .unit("world units")
+        Param::length("length", 4.0)
             .doc("length along the centreline"),
-        Param::float("radius", 0.06)
-            .check(Check::Positive)
-            .unit("world units")
+        Param::length("radius", 0.06)
             .doc("largest body half-width"),
         Param::float("waves", 1.25).doc("`s_curve`: periods along the body"),
         Param::float("amplitude", 0.45)
@@ -159,8 +153,7 @@ declare!(
             .check(Check::Range(-180.0, 180.0))
             .unit("degrees")
             .doc("turn a stretch of the body about its centreline (shows the belly)"),
-        Param::float("roll_at", 0.5)
-            .check(Check::Range(0.0, 1.0))
+        Param::fraction("roll_at", 0.5)
             .unit("of length")
             .doc("centre of the rolled stretch"),
         part("roll_span", 0.25, 1.0, "of length")

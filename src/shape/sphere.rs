@@ -32,9 +32,7 @@ use crate::math::{
 use crate::plugin::{declare, Args, DefaultValue, Param, SceneError, Ty};
 use glam::DVec3;
 
-declare!(
-    /// The `sphere` plugin.
-    pub(crate) PLUGIN: super::Parts, Transform = Shape "sphere" []
+declare!(PLUGIN: super::Parts, Transform = Shape "sphere" []
     "analytic sphere"
     [&[
         Param::new("center", Ty::Point, DefaultValue::Derived("(0, 0, 0)"))

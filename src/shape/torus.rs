@@ -36,18 +36,12 @@ use crate::math::{Transform, Vec2};
 use crate::plugin::{declare, Args, Check, DefaultValue, Param, SceneError, Ty};
 use std::f64::consts::TAU;
 
-declare!(
-    /// The `torus` plugin.
-    pub(crate) PLUGIN: super::Parts, Transform = Shape "torus" []
+declare!(PLUGIN: super::Parts, Transform = Shape "torus" []
     "a ring (a fine mesh with the analytic torus's normals and UVs)"
     [&[
-        Param::float("major_radius", 1.0)
-            .check(Check::Positive)
-            .unit("world units")
+        Param::length("major_radius", 1.0)
             .doc("axis to the tube's centre"),
-        Param::float("minor_radius", 0.25)
-            .check(Check::Positive)
-            .unit("world units")
+        Param::length("minor_radius", 0.25)
             .doc("tube radius (less than `major_radius`)"),
         Param::new("segments_major", Ty::Integer, DefaultValue::Derived("128·R/r (64…2048)"))
             .check(Check::Range(3.0, 8192.0))

@@ -26,9 +26,7 @@ use crate::spectrum::rgb2spec::{rgb_to_sigmoid, SigmoidPolynomial};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use std::sync::Arc;
 
-declare!(
-    /// The `bitmap` plugin.
-    pub(crate) PLUGIN: Texture, Want = Texture "bitmap" []
+declare!(PLUGIN: Texture, Want = Texture "bitmap" []
     "an image: EXR, Radiance HDR, PNG or JPEG"
     [&[
             Param::new("filename", Ty::String, DefaultValue::Required)

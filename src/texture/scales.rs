@@ -65,7 +65,7 @@
 use super::head_shields::{self, HEAD_CELLS};
 use super::{FloatTexture, NormalSource, SpectrumTexture, Texture, Want};
 use crate::math::Vec2;
-use crate::plugin::{declare, Args, Check, DefaultValue, Param, SceneError, SpectrumKind, Ty};
+use crate::plugin::{declare, Args, Check, Param, SceneError};
 use std::sync::{Arc, OnceLock};
 
 /// How cells are laid out (see the module header).
@@ -108,21 +108,15 @@ const PARAMS: &[Param] = &[
         .check(Check::OpenClosed(0.0, 1e6))
         .unit("1/UV")
         .doc("rows per unit v"),
-    Param::float("irregularity", 0.3)
-        .check(Check::Range(0.0, 1.0))
-        .doc("0 = regular hexagons … 1 = Voronoi-like jitter"),
+    Param::fraction("irregularity", 0.3).doc("0 = regular hexagons … 1 = Voronoi-like jitter"),
     Param::float("gap", 0.08)
         .also(&["line_width"])
         .v06("lineWidth")
         .check(Check::Range(0.0, 0.5))
         .unit("cells")
         .doc("groove width at half height"),
-    Param::float("dome", 0.5)
-        .check(Check::Range(0.0, 1.0))
-        .doc("0 = flat top … 1 = fully rounded"),
-    Param::float("overlap", 0.3)
-        .check(Check::Range(0.0, 1.0))
-        .doc("0 = symmetric … 1 = a ramp rising to the free edge"),
+    Param::fraction("dome", 0.5).doc("0 = flat top … 1 = fully rounded"),
+    Param::fraction("overlap", 0.3).doc("0 = symmetric … 1 = a ramp rising to the free edge"),
     Param::float("overlap_angle", 90.0)
         .unit("degrees")
         .doc("direction of the free edge in cell space (0 = +u, 90 = +v)"),
@@ -138,23 +132,11 @@ const PARAMS: &[Param] = &[
         .doc(
             "cell layout: `hex` (dorsal scales), `rows` (ventral plates) or `head` (head shields)",
         ),
-    Param::new(
-        "color0",
-        Ty::Spectrum(SpectrumKind::Albedo),
-        DefaultValue::Float(0.4),
-    )
-    .doc("colour of the scales (colour lookups)"),
-    Param::new(
-        "color1",
-        Ty::Spectrum(SpectrumKind::Albedo),
-        DefaultValue::Float(0.1),
-    )
-    .doc("colour of the grooves (colour lookups)"),
+    Param::colour("color0", 0.4).doc("colour of the scales (colour lookups)"),
+    Param::colour("color1", 0.1).doc("colour of the grooves (colour lookups)"),
 ];
 
-declare!(
-    /// The `scales` plugin.
-    pub(crate) PLUGIN: Texture, Want = Texture "scales" ["reptileSkin", "reptile_skin"]
+declare!(PLUGIN: Texture, Want = Texture "scales" ["reptileSkin", "reptile_skin"]
     "procedural reptile scales: a height, a colour, or normals"
     [PARAMS] load);
 

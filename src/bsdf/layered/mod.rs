@@ -59,9 +59,7 @@ use closed_form::{CoatOptics, CoatedDiffuse};
 pub use walk::{Medium, Stack, DEFAULT_MAX_DEPTH, MAX_INTERFACES};
 
 use crate::bsdf::material::{LayerMedium, Material};
-use crate::plugin::{
-    declare, Args, Check, DefaultValue, Param, SceneError, SpectrumKind, Tag, Ty, Value,
-};
+use crate::plugin::{declare, Args, Check, DefaultValue, Param, SceneError, Tag, Ty, Value};
 use crate::spectrum::SampledSpectrum;
 
 /// Parameters the thesis's `multilayered` takes that ophis accepts and ignores (its `pdf` is
@@ -77,9 +75,7 @@ const IGNORED: [&str; 8] = [
     "max_survival_prob",
 ];
 
-declare!(
-    /// The `multilayered` plugin.
-    pub(crate) PLUGIN: Material = Bsdf "multilayered" []
+declare!(PLUGIN: Material = Bsdf "multilayered" []
     "a stack of interfaces and media, by position-free Monte Carlo"
     [
             &[
@@ -93,18 +89,10 @@ declare!(
                 .doc("N, the number of interfaces"),
                 Param::new("surface_i", Ty::Bsdf, DefaultValue::Required)
                     .doc("interface i (0 … N − 1), top first"),
-                Param::new(
-                    "sigma_t_i",
-                    Ty::SpectrumTexture(SpectrumKind::Unbounded),
-                    DefaultValue::Float(0.0),
-                )
+                Param::coefficient("sigma_t_i", 0.0)
                 .v06("sigmaT_i")
                 .doc("extinction of medium i (between surface i and i + 1) = its optical depth"),
-                Param::new(
-                    "albedo_i",
-                    Ty::SpectrumTexture(SpectrumKind::Albedo),
-                    DefaultValue::Float(0.0),
-                )
+                Param::reflectance("albedo_i", 0.0)
                 .doc("single-scattering albedo of medium i"),
                 Param::new("phase_i", Ty::Float, DefaultValue::Float(0.0))
                     .check(Check::Open(-1.0, 1.0))

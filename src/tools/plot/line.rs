@@ -2,7 +2,8 @@
 //! frame and a legend (the R(λ) curves of `ophis thinfilm --plot`).
 
 use super::{
-    font, text_scale, tick_label, tick_step, valid_range, Figure, PlotError, Series, GRID, MID_GREY,
+    draw_legend, draw_pieces, font, text_scale, tick_label, tick_step, valid_range, Figure,
+    PlotError, Series, GRID,
 };
 use plotters::prelude::*;
 
@@ -211,37 +212,17 @@ impl LineChart {
             .y_desc(&self.y_label)
             .draw()?;
         let area = PlotArea::of(chart.plotting_area(), xr, yr);
-        let width = (2.0 * s) as u32;
         for sr in &self.series {
-            let style = sr.color.stroke_width(width);
             let mut pieces = runs(&sr.points, xr, yr);
             if pieces.is_empty() {
                 // Nothing visible: an empty piece still carries the legend entry.
                 pieces.push(Vec::new());
             }
-            for (i, run) in pieces.into_iter().enumerate() {
-                let ann = chart.draw_series(LineSeries::new(run, style))?;
-                // One legend entry per series, on its first visible piece.
-                if i == 0 && !sr.label.is_empty() {
-                    let w = (24.0 * s) as i32;
-                    ann.label(&sr.label)
-                        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + w, y)], style));
-                }
-            }
+            draw_pieces(&mut chart, sr, pieces, s)?;
         }
         let frame = [(xr.0, yr.0), (xr.1, yr.1)];
         chart.draw_series(std::iter::once(Rectangle::new(frame, BLACK)))?;
-        if self.series.iter().any(|s| !s.label.is_empty()) {
-            chart
-                .configure_series_labels()
-                .position(SeriesLabelPosition::UpperRight)
-                .margin(8.0 * s)
-                .legend_area_size(30.0 * s)
-                .label_font(font(14.0 * s))
-                .background_style(WHITE)
-                .border_style(MID_GREY)
-                .draw()?;
-        }
+        draw_legend(&mut chart, &self.series, 8.0 * s, font(14.0 * s), s)?;
         root.present()?;
         Ok(area)
     }

@@ -72,6 +72,53 @@ impl Series {
     }
 }
 
+/// A chart on a figure, in data coordinates (both the line and the polar chart are drawn so).
+type Chart<'a, 'b> =
+    ChartContext<'a, BitMapBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+
+/// Draws a series as separate pieces (where its curve breaks), its legend entry on the first
+/// piece; `s` is the figure's text scale.
+fn draw_pieces(
+    chart: &mut Chart,
+    sr: &Series,
+    pieces: Vec<Vec<(f64, f64)>>,
+    s: f64,
+) -> Result<(), PlotError> {
+    let style = sr.color.stroke_width((2.0 * s) as u32);
+    for (i, piece) in pieces.into_iter().enumerate() {
+        let ann = chart.draw_series(LineSeries::new(piece, style))?;
+        // One legend entry per series, on its first piece.
+        if i == 0 && !sr.label.is_empty() {
+            let w = (24.0 * s) as i32;
+            ann.label(&sr.label)
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + w, y)], style));
+        }
+    }
+    Ok(())
+}
+
+/// The legend of the labelled series in the upper right corner (none without labels).
+fn draw_legend<'a, 'b: 'a>(
+    chart: &mut Chart<'a, 'b>,
+    series: &[Series],
+    margin: f64,
+    label: TextStyle,
+    s: f64,
+) -> Result<(), PlotError> {
+    if series.iter().any(|s| !s.label.is_empty()) {
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::UpperRight)
+            .margin(margin)
+            .legend_area_size(30.0 * s)
+            .label_font(label)
+            .background_style(WHITE)
+            .border_style(MID_GREY)
+            .draw()?;
+    }
+    Ok(())
+}
+
 /// A picture being drawn: `width` × `height` pixels of 8-bit sRGB, row-major, top row first.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Figure {

@@ -3,7 +3,10 @@
 //! Plotters has no polar coordinates, so the chart is a Cartesian one with equal pixel scales
 //! on both axes and the rings, spokes and lobes are drawn as curves in it.
 
-use super::{font, text_scale, tick_label, tick_step, Figure, PlotError, Series, GRID, MID_GREY};
+use super::{
+    draw_legend, draw_pieces, font, text_scale, tick_label, tick_step, Figure, PlotError, Series,
+    GRID, MID_GREY,
+};
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
@@ -162,7 +165,6 @@ impl PolarChart {
             chart.draw_series(LineSeries::new([(0.0, 0.0), polar(inc, r_max)], ray))?;
         }
         for sr in &self.series {
-            let style = sr.color.stroke_width((2.0 * s) as u32);
             let mut pieces: Vec<Vec<(f64, f64)>> = vec![Vec::new()];
             for &(ang, v) in &sr.points {
                 if ang.is_nan() || v.is_nan() {
@@ -171,26 +173,9 @@ impl PolarChart {
                     last.push(polar(ang, v.clamp(0.0, r_max)));
                 }
             }
-            for (i, piece) in pieces.into_iter().enumerate() {
-                let ann = chart.draw_series(LineSeries::new(piece, style))?;
-                if i == 0 && !sr.label.is_empty() {
-                    let w = (24.0 * s) as i32;
-                    ann.label(&sr.label)
-                        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + w, y)], style));
-                }
-            }
+            draw_pieces(&mut chart, sr, pieces, s)?;
         }
-        if self.series.iter().any(|s| !s.label.is_empty()) {
-            chart
-                .configure_series_labels()
-                .position(SeriesLabelPosition::UpperRight)
-                .margin(4.0 * s)
-                .legend_area_size(30.0 * s)
-                .label_font(label.clone())
-                .background_style(WHITE)
-                .border_style(MID_GREY)
-                .draw()?;
-        }
+        draw_legend(&mut chart, &self.series, 4.0 * s, label.clone(), s)?;
         root.present()?;
         Ok(area)
     }
