@@ -39,6 +39,8 @@ pub mod sampler;
 pub mod scene;
 /// Shapes: spheres, disks, triangle meshes and their loaders.
 pub mod shape;
+/// Lanes of `f32` (one, or eight with AVX2) for arithmetic shared by scalar and vector code.
+pub mod simd;
 /// Spectral types, colour-matching functions, RGB uplift, named IOR data.
 pub mod spectrum;
 /// Textures.

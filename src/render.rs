@@ -6,7 +6,7 @@
 //! sample count, so the film's sums are bit-identical whatever the number of threads.
 
 use crate::film::{spectrum_to_xyz, Film};
-use crate::integrator::{aov, radiance, PathStrategy};
+use crate::integrator::{aov, radiance, wave, PathStrategy};
 use crate::math::Vec2;
 use crate::sampler::Sampler;
 use crate::scene::Scene;
@@ -28,6 +28,19 @@ pub struct RenderOptions {
     pub time_limit: Option<Duration>,
     /// Estimator combination (MIS by default).
     pub strategy: PathStrategy,
+    /// Which implementation of the integrator runs.
+    pub engine: Engine,
+}
+
+/// The implementation that renders a scene's paths. Both give the same image, bit for bit.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Engine {
+    /// The wavefront integrator ([`crate::integrator::wave`]) wherever it supports the scene,
+    /// the scalar loop elsewhere.
+    #[default]
+    Auto,
+    /// One path at a time ([`crate::integrator::path::radiance`]).
+    Scalar,
 }
 
 /// Progress events for a user interface.
@@ -162,6 +175,8 @@ pub fn render_with(
     );
     prepare_aovs(scene, film);
     let t0 = Instant::now();
+    let program = (opts.engine == Engine::Auto && wave::supports(scene))
+        .then(|| wave::WaveProgram::new(scene));
     let (w, h) = (scene.width, scene.height);
     let tiles = tiles(w, h, ctl.tile_order);
     let pixels_of = |(x0, y0): (u32, u32)| {
@@ -202,7 +217,13 @@ pub fn render_with(
                     return;
                 }
             }
-            let (acc, aov) = render_tile(scene, x0, y0, from, s1, opts.strategy);
+            let (acc, aov) = if let Some(prog) = &program {
+                let ext = tile_extent(scene, x0, y0);
+                let acc = wave::render_tile(scene, prog, (x0, y0), ext, (from, s1), opts.strategy);
+                (acc, Vec::new())
+            } else {
+                render_tile(scene, x0, y0, from, s1, opts.strategy)
+            };
             let n = acc.len() as u64 * (s1 - from) as u64;
             let d = done.fetch_add(n, Ordering::Relaxed) + n;
             ctl.progress.update(d, total);

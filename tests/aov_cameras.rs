@@ -40,6 +40,7 @@ fn film_of(s: &Scene, spp: u32) -> Film {
         spp,
         time_limit: None,
         strategy: ophis::integrator::PathStrategy::Mis,
+        engine: ophis::render::Engine::Auto,
     };
     render(s, &mut film, 0, &opts, &AtomicBool::new(false), &NoProgress);
     film
@@ -273,6 +274,7 @@ fn a_resumed_aov_render_equals_an_uninterrupted_one_and_round_trips_its_state() 
         spp: 6,
         time_limit: None,
         strategy: ophis::integrator::PathStrategy::Mis,
+        engine: ophis::render::Engine::Auto,
     };
     render(
         &s,

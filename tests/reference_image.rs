@@ -32,6 +32,7 @@ fn render_seed(seed: u64) -> Vec<[f32; 3]> {
         spp: scene.sampler.spp,
         time_limit: None,
         strategy: PathStrategy::Mis,
+        engine: ophis::render::Engine::Auto,
     };
     render(
         &scene,

@@ -199,6 +199,7 @@ fn exercise(bytes: &[u8], scene_file: &Path) -> Result<bool, String> {
                 spp: 1,
                 time_limit: Some(std::time::Duration::from_secs(20)),
                 strategy: PathStrategy::Mis,
+                engine: ophis::render::Engine::Auto,
             };
             render(
                 &scene,

@@ -41,6 +41,7 @@ fn opts(spp: u32) -> RenderOptions {
         spp,
         time_limit: None,
         strategy: PathStrategy::Mis,
+        engine: ophis::render::Engine::Auto,
     }
 }
 

@@ -278,6 +278,7 @@ fn envmap_from_exr_loads_and_lights_the_scene() {
         spp: 16,
         time_limit: None,
         strategy: ophis::integrator::PathStrategy::Mis,
+        engine: ophis::render::Engine::Auto,
     };
     ophis::render::render(
         &s,

@@ -242,6 +242,7 @@ pub fn render(
         spp,
         time_limit: None,
         strategy: PathStrategy::Mis,
+        engine: ophis::render::Engine::Auto,
     };
     let ctl = RenderControl {
         cancel,

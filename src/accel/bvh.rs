@@ -9,6 +9,19 @@ use super::Accel;
 use crate::math::{Bounds3, Ray};
 use crate::shape::{Hit, Shape, SurfaceInteraction};
 
+/// Words of one leaf block in [`Bvh::block_words`].
+pub const BLOCK_WORDS: usize = 40;
+const _: () = assert!(std::mem::size_of::<Block>() == BLOCK_WORDS * 4);
+
+/// A closest hit with the leaf slot it was found in (block and lane), where a triangle's
+/// corners are stored.
+#[derive(Clone, Copy, Debug)]
+pub struct RawHit {
+    pub hit: Hit,
+    pub block: u32,
+    pub lane: u32,
+}
+
 /// The bounding volume hierarchy; see the [module header](super).
 #[derive(Clone, Debug)]
 pub struct Bvh {
@@ -156,15 +169,82 @@ impl Bvh {
         ray: &Ray,
     ) -> Option<(Hit, SurfaceInteraction)> {
         let f = isa::closest(self.isa, self.view(), shapes, ray)?;
+        Some((self.hit(f), self.interaction(shapes, f, ray)))
+    }
+
+    /// Closest hits of a batch of rays, as the traversal found them (with the leaf slot of a
+    /// triangle, see [`RawHit`]); `out[i]` for `rays[i]`.
+    pub fn intersect_raw_n(&self, shapes: &[Shape], rays: &[Ray], out: &mut [Option<RawHit>]) {
+        assert_eq!(rays.len(), out.len());
+        let mut raw = [None; 64];
+        for (rs, os) in rays.chunks(64).zip(out.chunks_mut(64)) {
+            let raw = &mut raw[..rs.len()];
+            isa::closest_n(self.isa, self.view(), shapes, rs, raw);
+            for (o, r) in os.iter_mut().zip(raw.iter()) {
+                *o = r.map(|f| RawHit {
+                    hit: self.hit(f),
+                    block: f.block,
+                    lane: f.lane,
+                });
+            }
+        }
+    }
+
+    /// The surface geometry of a hit found by [`Bvh::intersect_raw_n`] for `ray`.
+    #[inline]
+    pub fn raw_interaction(&self, shapes: &[Shape], h: &RawHit, ray: &Ray) -> SurfaceInteraction {
+        match &shapes[h.hit.shape as usize] {
+            Shape::Mesh(m) => {
+                let corners = self.blocks[h.block as usize].corners(h.lane as usize);
+                m.interaction_at(&h.hit, corners)
+            }
+            s => s.interaction(&h.hit, ray),
+        }
+    }
+
+    /// The leaf blocks as one flat array of words: triangle `lane`'s corner `k`, axis `a` of
+    /// block `b` is at `b · BLOCK_WORDS + k · 12 + a · 4 + lane` (see [`super::block`]).
+    pub fn block_words(&self) -> &[f32] {
+        // SAFETY: `Block` is `repr(C)` of f32 and u32 words only (no padding: 160 bytes, 40
+        // words), and every bit pattern is a valid f32; the slice covers exactly the blocks.
+        unsafe {
+            std::slice::from_raw_parts(
+                self.blocks.as_ptr() as *const f32,
+                self.blocks.len() * BLOCK_WORDS,
+            )
+        }
+    }
+
+    /// [`Bvh::intersect_interaction`] for a batch of rays: `out[i]` for `rays[i]` (the two
+    /// slices must have the same length), with one instruction-set dispatch per 64 rays.
+    pub fn intersect_interaction_n(
+        &self,
+        shapes: &[Shape],
+        rays: &[Ray],
+        out: &mut [Option<SurfaceInteraction>],
+    ) {
+        assert_eq!(rays.len(), out.len());
+        let mut raw = [None; 64];
+        for (rs, os) in rays.chunks(64).zip(out.chunks_mut(64)) {
+            let raw = &mut raw[..rs.len()];
+            isa::closest_n(self.isa, self.view(), shapes, rs, raw);
+            for ((o, r), ray) in os.iter_mut().zip(raw.iter()).zip(rs) {
+                *o = r.map(|f| self.interaction(shapes, f, ray));
+            }
+        }
+    }
+
+    /// The surface geometry of a traversal's result.
+    #[inline]
+    fn interaction(&self, shapes: &[Shape], f: Found, ray: &Ray) -> SurfaceInteraction {
         let hit = self.hit(f);
-        let si = match &shapes[hit.shape as usize] {
+        match &shapes[hit.shape as usize] {
             Shape::Mesh(m) => {
                 let corners = self.blocks[f.block as usize].corners(f.lane as usize);
                 m.interaction_at(&hit, corners)
             }
             s => s.interaction(&hit, ray),
-        };
-        Some((hit, si))
+        }
     }
 
     /// Closest hits of a batch of rays: `hits[i]` for `rays[i]` (the two slices must have the

@@ -38,7 +38,7 @@ pub mod traverse;
 pub mod wide;
 
 pub use brute::BruteForce;
-pub use bvh::Bvh;
+pub use bvh::{Bvh, RawHit, BLOCK_WORDS};
 pub use isa::Isa;
 
 /// A structure answering ray queries against a shape list.

@@ -19,8 +19,8 @@
 //! film ([`super::filmfresnel::FilmFresnel`]).
 
 use crate::math::Vec3;
+use crate::simd::Float;
 use crate::spectrum::SampledSpectrum;
-use num_complex::Complex32;
 use std::fmt::Debug;
 
 /// How light that is not reflected leaves an interface.
@@ -113,6 +113,8 @@ impl Fresnel for ThinSheetFresnel {
     }
 }
 
+// The scalar reference that the tests check the lanes version against.
+#[cfg(test)]
 /// s- and p-polarised reflectances (|r_s|², |r_p|²) of a dielectric interface, and the signed
 /// cosine of the refracted direction (opposite sign to `cos_theta_i`, 0 under total internal
 /// reflection, where both reflectances are 1).
@@ -135,10 +137,26 @@ pub(crate) fn fresnel_dielectric_polarized(cos_theta_i: f32, eta: f32) -> (f32, 
 
 /// Unpolarised reflectance of a dielectric interface with relative index `eta`.
 #[inline]
-pub(crate) fn fresnel_dielectric(cos_theta_i: f32, eta: f32) -> f32 {
-    fresnel_dielectric_cos_t(cos_theta_i, eta).0
+pub fn fresnel_dielectric(cos_theta_i: f32, eta: f32) -> f32 {
+    fresnel_dielectric_lanes(cos_theta_i, eta)
 }
 
+/// [`fresnel_dielectric`] on lanes (the operations of [`fresnel_dielectric_polarized`]).
+#[inline(always)]
+pub fn fresnel_dielectric_lanes<F: Float>(cos_theta_i: F, eta: F) -> F {
+    let one = F::splat(1.0);
+    let inside = cos_theta_i.lt(F::splat(0.0));
+    let cos_i = F::select(inside, -cos_theta_i, cos_theta_i).min(one);
+    let eta = F::select(inside, one / eta, eta);
+    let sin2_t = (one - cos_i * cos_i) / (eta * eta);
+    let cos_t = (one - sin2_t).max(F::splat(0.0)).sqrt();
+    let rs = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
+    let rp = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
+    let r = F::splat(0.5) * (rs * rs + rp * rp);
+    F::select(sin2_t.ge(one), one, r)
+}
+
+#[cfg(test)]
 /// Unpolarised reflectance and the signed cosine of the refracted direction (see
 /// [`fresnel_dielectric_polarized`]).
 #[inline]
@@ -154,17 +172,82 @@ pub(crate) fn fresnel_conductor(
     eta: SampledSpectrum,
     k: SampledSpectrum,
 ) -> SampledSpectrum {
-    let cos_i = cos_theta_i.abs().min(1.0);
-    let sin2_i = 1.0 - cos_i * cos_i;
-    SampledSpectrum::from_fn(|j| {
-        let n = Complex32::new(eta[j], k[j]);
-        // Snell's law with a complex index: cos θt = sqrt(1 − sin²θi / n²), principal root.
-        let cos_t = (Complex32::new(1.0, 0.0) - sin2_i / (n * n)).sqrt();
-        let ci = Complex32::new(cos_i, 0.0);
-        let rs = (ci - n * cos_t) / (ci + n * cos_t);
-        let rp = (n * ci - cos_t) / (n * ci + cos_t);
-        0.5 * (rs.norm_sqr() + rp.norm_sqr())
-    })
+    SampledSpectrum::from_fn(|j| fresnel_conductor_lanes(cos_theta_i, eta[j], k[j]))
+}
+
+/// Complex numbers on lanes, with the few operations the conductor needs.
+#[derive(Clone, Copy, Debug)]
+struct Complex<F> {
+    re: F,
+    im: F,
+}
+
+impl<F: Float> Complex<F> {
+    #[inline(always)]
+    fn new(re: F, im: F) -> Self {
+        Complex { re, im }
+    }
+    #[inline(always)]
+    fn mul(self, o: Self) -> Self {
+        Complex::new(
+            self.re * o.re - self.im * o.im,
+            self.re * o.im + self.im * o.re,
+        )
+    }
+    #[inline(always)]
+    fn div(self, o: Self) -> Self {
+        let n = o.re * o.re + o.im * o.im;
+        Complex::new(
+            (self.re * o.re + self.im * o.im) / n,
+            (self.im * o.re - self.re * o.im) / n,
+        )
+    }
+    #[inline(always)]
+    fn add(self, o: Self) -> Self {
+        Complex::new(self.re + o.re, self.im + o.im)
+    }
+    #[inline(always)]
+    fn sub(self, o: Self) -> Self {
+        Complex::new(self.re - o.re, self.im - o.im)
+    }
+    #[inline(always)]
+    fn norm_sqr(self) -> F {
+        self.re * self.re + self.im * self.im
+    }
+    /// The principal square root (Re ≥ 0), algebraically: with r = |z|, the larger of the two
+    /// parts is √((r + |Re z|)/2) and the other follows by division, free of cancellation.
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        let zero = F::splat(0.0);
+        let r = self.norm_sqr().sqrt();
+        let t = ((r + self.re.abs()) * F::splat(0.5)).sqrt();
+        let other = self.im.abs() / (t + t);
+        let nonneg = self.re.ge(zero);
+        let re = F::select(nonneg, t, other);
+        let im = F::select(nonneg, self.im / (t + t), t.copysign(self.im));
+        let z = t.eq(zero);
+        Complex::new(F::select(z, zero, re), F::select(z, zero, im))
+    }
+}
+
+/// [`fresnel_conductor`] for one wavelength on lanes.
+#[inline(always)]
+pub fn fresnel_conductor_lanes<F: Float>(cos_theta_i: F, eta: F, k: F) -> F {
+    let zero = F::splat(0.0);
+    let one = F::splat(1.0);
+    let cos_i = cos_theta_i.abs().min(one);
+    let sin2_i = one - cos_i * cos_i;
+    let n = Complex::new(eta, k);
+    // Snell's law with a complex index: cos θt = sqrt(1 − sin²θi / n²), principal root.
+    let cos_t = Complex::new(one, zero)
+        .sub(Complex::new(sin2_i, zero).div(n.mul(n)))
+        .sqrt();
+    let ci = Complex::new(cos_i, zero);
+    let nc = n.mul(cos_t);
+    let rs = ci.sub(nc).div(ci.add(nc));
+    let nci = n.mul(ci);
+    let rp = nci.sub(cos_t).div(nci.add(cos_t));
+    F::splat(0.5) * (rs.norm_sqr() + rp.norm_sqr())
 }
 
 /// The Fresnel behaviour of a conductor: a perfect mirror (Mitsuba's `material = "none"`) or a

@@ -20,6 +20,8 @@
 //! erfc uses a Chebyshev fit with relative error below 1.2e-7.
 
 use crate::math::{Vec2, Vec3, PI};
+use crate::simd::fastmath::sin_cos;
+use crate::simd::{Float, V3};
 
 /// Which normal distribution.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -62,6 +64,9 @@ impl MicrofacetDistribution {
     /// Density of microfacet normals per unit solid angle (0 below the surface); normalised so
     /// that ∫ D(m) cos θm dm = 1.
     pub fn d(&self, wm: Vec3) -> f32 {
+        if self.kind == MicrofacetType::Ggx {
+            return self.ggx().d(wm.into());
+        }
         let z2 = wm.z * wm.z;
         if wm.z <= 0.0 || z2 == 0.0 {
             return 0.0;
@@ -69,14 +74,20 @@ impl MicrofacetDistribution {
         let (ax, ay) = (self.alpha_x, self.alpha_y);
         let e = (wm.x * wm.x / (ax * ax) + wm.y * wm.y / (ay * ay)) / z2;
         let norm = PI * ax * ay * z2 * z2;
-        let d = match self.kind {
-            MicrofacetType::Ggx => 1.0 / (norm * (1.0 + e) * (1.0 + e)),
-            MicrofacetType::Beckmann => (-e).exp() / norm,
-        };
+        let d = (-e).exp() / norm;
         if d.is_finite() {
             d
         } else {
             0.0
+        }
+    }
+
+    /// The GGX distribution of these roughnesses, on one lane.
+    #[inline]
+    fn ggx(&self) -> GgxL<f32> {
+        GgxL {
+            ax: self.alpha_x,
+            ay: self.alpha_y,
         }
     }
 
@@ -90,7 +101,7 @@ impl MicrofacetDistribution {
             + self.alpha_y * self.alpha_y * w.y * w.y)
             / z2;
         match self.kind {
-            MicrofacetType::Ggx => 0.5 * ((1.0 + a2t2).sqrt() - 1.0),
+            MicrofacetType::Ggx => self.ggx().lambda(w.into()),
             MicrofacetType::Beckmann => {
                 if a2t2 == 0.0 {
                     return 0.0;
@@ -117,6 +128,9 @@ impl MicrofacetDistribution {
     /// Density of visible normals seen from `w` (from −w when `w` is below the surface), per
     /// unit solid angle of `wm`.
     pub fn pdf(&self, w: Vec3, wm: Vec3) -> f32 {
+        if self.kind == MicrofacetType::Ggx {
+            return self.ggx().pdf(w.into(), wm.into());
+        }
         let w = if w.z < 0.0 { -w } else { w };
         if w.z == 0.0 {
             return 0.0;
@@ -130,13 +144,13 @@ impl MicrofacetDistribution {
 
     /// Samples a visible normal as seen from `w` (from −w when `w` is below); wm.z ≥ 0.
     pub fn sample_wm(&self, w: Vec3, u: Vec2) -> Vec3 {
+        if self.kind == MicrofacetType::Ggx {
+            return self.ggx().sample_wm(w.into(), u.x, u.y).into();
+        }
         let w = if w.z < 0.0 { -w } else { w };
         // Stretch to the isotropic unit-roughness configuration.
         let wh = Vec3::new(self.alpha_x * w.x, self.alpha_y * w.y, w.z).normalize();
-        let nh = match self.kind {
-            MicrofacetType::Ggx => sample_ggx_unit(wh, u),
-            MicrofacetType::Beckmann => sample_beckmann_unit(wh, u),
-        };
+        let nh = sample_beckmann_unit(wh, u);
         // Unstretch (normals transform with the inverse transpose).
         let m = Vec3::new(self.alpha_x * nh.x, self.alpha_y * nh.y, nh.z.max(0.0));
         let len = m.length();
@@ -148,26 +162,88 @@ impl MicrofacetDistribution {
     }
 }
 
-/// Visible normal of the unit-roughness GGX seen from `wh`: a uniform point on the projected
-/// hemisphere, i.e. a disk warped towards the visible half (Heitz 2018).
-fn sample_ggx_unit(wh: Vec3, u: Vec2) -> Vec3 {
-    let lensq = wh.x * wh.x + wh.y * wh.y;
-    let t1 = if lensq > 0.0 {
-        Vec3::new(-wh.y, wh.x, 0.0) / lensq.sqrt()
-    } else {
-        Vec3::X
-    };
-    let t2 = wh.cross(t1);
-    let r = u.x.sqrt();
-    let phi = 2.0 * PI * u.y;
-    let (s, c) = phi.sin_cos();
-    let p1 = r * c;
-    let mut p2 = r * s;
-    // Squash the lower half of the disk into the part of the ellipse that is visible.
-    let h = 0.5 * (1.0 + wh.z);
-    p2 = (1.0 - h) * (1.0 - p1 * p1).max(0.0).sqrt() + h * p2;
-    let pz = (1.0 - p1 * p1 - p2 * p2).max(0.0).sqrt();
-    p1 * t1 + p2 * t2 + pz * wh
+/// GGX with its roughnesses per lane: D, Smith's Λ, the visible-normal density and its
+/// sampling (Heitz 2018), operation for operation what [`MicrofacetDistribution`] computes for
+/// GGX (which calls these on one lane).
+#[derive(Clone, Copy, Debug)]
+pub struct GgxL<F> {
+    pub ax: F,
+    pub ay: F,
+}
+
+impl<F: Float> GgxL<F> {
+    /// Normal density D(wm) (0 below the surface or where it overflows).
+    #[inline(always)]
+    pub fn d(&self, wm: V3<F>) -> F {
+        let zero = F::splat(0.0);
+        let one = F::splat(1.0);
+        let (ax, ay) = (self.ax, self.ay);
+        let z2 = wm.z * wm.z;
+        let e = (wm.x * wm.x / (ax * ax) + wm.y * wm.y / (ay * ay)) / z2;
+        let norm = F::splat(PI) * ax * ay * z2 * z2;
+        let d = one / (norm * (one + e) * (one + e));
+        let ok = !(wm.z.le(zero) | z2.eq(zero)) & d.is_finite();
+        F::select(ok, d, zero)
+    }
+
+    /// Smith's Λ(w) (+∞ at grazing).
+    #[inline(always)]
+    pub fn lambda(&self, w: V3<F>) -> F {
+        let z2 = w.z * w.z;
+        let a2t2 = (self.ax * self.ax * w.x * w.x + self.ay * self.ay * w.y * w.y) / z2;
+        let l = F::splat(0.5) * ((F::splat(1.0) + a2t2).sqrt() - F::splat(1.0));
+        F::select(z2.eq(F::splat(0.0)), F::splat(f32::INFINITY), l)
+    }
+
+    /// Smith masking 1 / (1 + Λ(w)).
+    #[inline(always)]
+    pub fn g1(&self, w: V3<F>) -> F {
+        F::splat(1.0) / (F::splat(1.0) + self.lambda(w))
+    }
+
+    /// Height-correlated masking-shadowing.
+    #[inline(always)]
+    pub fn g(&self, wo: V3<F>, wi: V3<F>) -> F {
+        F::splat(1.0) / (F::splat(1.0) + self.lambda(wo) + self.lambda(wi))
+    }
+
+    /// Density of visible normals seen from `w` (from −w below the surface).
+    #[inline(always)]
+    pub fn pdf(&self, w: V3<F>, wm: V3<F>) -> F {
+        let zero = F::splat(0.0);
+        let w = V3::select(w.z.lt(zero), -w, w);
+        let c = w.dot(wm);
+        let p = self.g1(w) * c * self.d(wm) / w.z;
+        F::select(w.z.eq(zero) | c.le(zero), zero, p)
+    }
+
+    /// A visible normal seen from `w` (from −w below the surface); wm.z ≥ 0.
+    #[inline(always)]
+    pub fn sample_wm(&self, w: V3<F>, u0: F, u1: F) -> V3<F> {
+        let zero = F::splat(0.0);
+        let one = F::splat(1.0);
+        let w = V3::select(w.z.lt(zero), -w, w);
+        // Stretch to the isotropic unit-roughness configuration.
+        let wh = V3::new(self.ax * w.x, self.ay * w.y, w.z).normalize();
+        // A uniform point on the projected hemisphere: a disk warped towards the visible half.
+        let lensq = wh.x * wh.x + wh.y * wh.y;
+        let t1 = V3::new(-wh.y, wh.x, zero) / lensq.sqrt();
+        let t1 = V3::select(lensq.gt(zero), t1, V3::new(one, zero, zero));
+        let t2 = wh.cross(t1);
+        let r = u0.sqrt();
+        let phi = F::splat(2.0 * PI) * u1;
+        let (s, c) = sin_cos(phi);
+        let p1 = r * c;
+        let p2 = r * s;
+        let h = F::splat(0.5) * (one + wh.z);
+        let p2 = (one - h) * (one - p1 * p1).max(zero).sqrt() + h * p2;
+        let pz = (one - p1 * p1 - p2 * p2).max(zero).sqrt();
+        let nh = t1 * p1 + t2 * p2 + wh * pz;
+        // Unstretch (normals transform with the inverse transpose).
+        let m = V3::new(self.ax * nh.x, self.ay * nh.y, nh.z.max(zero));
+        let len = m.length();
+        V3::select(len.gt(zero), m / len, V3::new(zero, zero, one))
+    }
 }
 
 /// Visible normal of the unit-roughness Beckmann seen from `wh`, through slope space: the slope

@@ -5,5 +5,6 @@ pub mod aov;
 pub mod direct;
 pub(crate) mod moment;
 pub mod path;
+pub mod wave;
 
 pub use path::{radiance, PathStrategy};

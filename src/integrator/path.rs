@@ -7,6 +7,12 @@
 //! (Mitsuba's −1) leaves termination to Russian roulette (with a safety cap far beyond where
 //! energy matters).
 //!
+//! A path is a [`PathState`] advanced one vertex at a time: [`PathState::escape`] when its ray
+//! leaves the scene, [`PathState::scatter`] when it meets a surface. Scattering does not trace
+//! its shadow ray itself; it hands it back with the contribution it carries if unoccluded, so
+//! that [`radiance`] (one path, tracing each ray at once) and the wavefront integrator
+//! ([`super::wave`], many paths, tracing rays in batches) share every line of the estimator.
+//!
 //! ## Parameters
 //!
 //! | parameter | type | default | unit | meaning |
@@ -26,6 +32,7 @@ use crate::math::{power_heuristic, Ray, Vec3};
 use crate::plugin::{declare, Args, Check, Param, SceneError};
 use crate::sampler::Sampler;
 use crate::scene::{IntegratorKind, IntegratorSettings, Scene};
+use crate::shape::SurfaceInteraction;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use crate::texture::TexCoord;
 
@@ -44,90 +51,137 @@ pub enum PathStrategy {
 /// all but a negligible fraction long before.
 const SAFETY_DEPTH: u32 = 1024;
 
-/// Estimates the radiance arriving along a camera ray at the path's wavelengths (with the
-/// scene's integrator: `direct` scenes are handed to [`super::direct::radiance`]).
-pub fn radiance(
-    scene: &Scene,
-    mut ray: Ray,
-    wl: &SampledWavelengths,
-    sampler: &mut Sampler,
-    strategy: PathStrategy,
-) -> SampledSpectrum {
-    let settings = &scene.integrator;
-    if let IntegratorKind::Direct {
-        emitter_samples,
-        bsdf_samples,
-    } = settings.kind
-    {
-        let counts = match strategy {
-            PathStrategy::Mis => (emitter_samples, bsdf_samples),
-            PathStrategy::LightOnly => (emitter_samples, 0),
-            PathStrategy::BsdfOnly => (0, bsdf_samples),
-        };
-        return super::direct::radiance(scene, ray, wl, sampler, counts);
+/// The settings a path consults at every vertex.
+#[derive(Clone, Copy, Debug)]
+pub struct PathConfig {
+    pub(crate) max_depth: u32,
+    pub(crate) rr_depth: u32,
+    pub(crate) hide_emitters: bool,
+    pub(crate) strategy: PathStrategy,
+    pub(crate) use_nee: bool,
+    pub(crate) use_bsdf_hits: bool,
+}
+
+impl PathConfig {
+    /// The `path` integrator's settings of `scene` with the given strategy.
+    pub fn new(scene: &Scene, strategy: PathStrategy) -> PathConfig {
+        let s = &scene.integrator;
+        PathConfig {
+            max_depth: s.max_depth.unwrap_or(SAFETY_DEPTH).min(SAFETY_DEPTH),
+            rr_depth: s.rr_depth,
+            hide_emitters: s.hide_emitters,
+            strategy,
+            use_nee: strategy != PathStrategy::BsdfOnly,
+            use_bsdf_hits: strategy != PathStrategy::LightOnly,
+        }
     }
-    let max_depth = settings.max_depth.unwrap_or(SAFETY_DEPTH).min(SAFETY_DEPTH);
-    let mut l = SampledSpectrum::ZERO;
-    let mut beta = SampledSpectrum::ONE;
-    let mut eta_scale = 1.0f32;
-    let mut specular_bounce = true;
-    let mut prev_pdf = 0.0f32;
-    let mut prev_ctx = LightSampleContext {
-        p: ray.o,
-        n: Vec3::ZERO,
-    };
-    let use_nee = strategy != PathStrategy::BsdfOnly;
-    let use_bsdf_hits = strategy != PathStrategy::LightOnly;
-    let mut depth = 0u32;
-    let mut null_crossings = 0u32;
-    // Pixel footprint for texture filtering: the camera's estimate at the path length (no ray
-    // differentials yet; after a bounce this underestimates the footprint).
-    let mut path_length = 0.0f32;
+}
 
-    loop {
-        let Some((_hit, si)) = scene.intersect(&ray) else {
-            // Escaped: environment lights.
-            if depth == 0 && settings.hide_emitters {
-                break;
-            }
-            for &li in &scene.infinite_lights {
-                let light = &scene.lights[li as usize];
-                let le = light.le(ray.d, wl);
-                if le.is_black() {
-                    continue;
-                }
-                let w = emitter_hit_weight(
-                    scene,
-                    li,
-                    specular_bounce,
-                    use_nee,
-                    use_bsdf_hits,
-                    prev_pdf,
-                    || light.pdf_li(&prev_ctx, ray.d, &scene.shapes, None),
-                );
-                l += beta * le * w;
-            }
-            break;
-        };
+/// A shadow ray and the radiance it adds to its path when nothing blocks it.
+#[derive(Clone, Copy, Debug)]
+pub struct ShadowRay {
+    pub ray: Ray,
+    pub contribution: SampledSpectrum,
+}
 
-        let wo = -ray.d;
-        path_length += si.t;
+/// One path between vertices: its next ray, throughput and what MIS needs of the last vertex.
+#[derive(Clone, Copy, Debug)]
+pub struct PathState {
+    /// The ray to trace next.
+    pub ray: Ray,
+    /// Radiance gathered so far.
+    pub l: SampledSpectrum,
+    /// Throughput.
+    pub(crate) beta: SampledSpectrum,
+    /// Product of η² over refractions (Russian roulette's correction).
+    pub(crate) eta_scale: f32,
+    /// Whether the last bounce was a delta lobe (or there was none yet).
+    pub(crate) specular_bounce: bool,
+    /// Solid-angle density of the last BSDF sample (for MIS at an emitter hit).
+    pub(crate) prev_pdf: f32,
+    /// The last vertex, as a light-sampling context.
+    pub(crate) prev_ctx: LightSampleContext,
+    /// Surfaces scattered at (null surfaces not counted).
+    pub(crate) depth: u32,
+    pub(crate) null_crossings: u32,
+    /// Pixel footprint for texture filtering: the camera's estimate at the path length (no ray
+    /// differentials yet; after a bounce this underestimates the footprint).
+    pub(crate) path_length: f32,
+}
+
+impl PathState {
+    /// A path starting with the camera ray `ray`.
+    pub fn new(ray: Ray) -> PathState {
+        PathState {
+            ray,
+            l: SampledSpectrum::ZERO,
+            beta: SampledSpectrum::ONE,
+            eta_scale: 1.0,
+            specular_bounce: true,
+            prev_pdf: 0.0,
+            prev_ctx: LightSampleContext {
+                p: ray.o,
+                n: Vec3::ZERO,
+            },
+            depth: 0,
+            null_crossings: 0,
+            path_length: 0.0,
+        }
+    }
+
+    /// The radiance estimate of a finished path (NaN and infinities never reach the film).
+    pub fn radiance(&self) -> SampledSpectrum {
+        if self.l.is_finite() {
+            self.l
+        } else {
+            SampledSpectrum::ZERO
+        }
+    }
+
+    /// The ray escaped the scene: adds the environment lights it sees. The path ends.
+    pub fn escape(&mut self, scene: &Scene, cfg: &PathConfig, wl: &SampledWavelengths) {
+        if self.depth == 0 && cfg.hide_emitters {
+            return;
+        }
+        let d = self.ray.d;
+        for &li in &scene.infinite_lights {
+            let light = &scene.lights[li as usize];
+            let le = light.le(d, wl);
+            if le.is_black() {
+                continue;
+            }
+            let w = self.emitter_hit_weight(scene, cfg, li, || {
+                light.pdf_li(&self.prev_ctx, d, &scene.shapes, None)
+            });
+            self.l += self.beta * le * w;
+        }
+    }
+
+    /// The ray met the surface `si`: adds its emission, then samples the next direction and
+    /// a light. Returns whether the path goes on (with `self.ray` its next ray), and the
+    /// shadow ray of next-event estimation, if any, whose contribution the caller adds to
+    /// `self.l` when it is unoccluded.
+    pub fn scatter(
+        &mut self,
+        scene: &Scene,
+        cfg: &PathConfig,
+        wl: &SampledWavelengths,
+        si: &SurfaceInteraction,
+        sampler: &mut Sampler,
+    ) -> (bool, Option<ShadowRay>) {
+        let wo = -self.ray.d;
+        self.path_length += si.t;
         // Emission from an area light that the path hit.
         if let Some(li) = scene.shape_light[si.shape as usize] {
-            if !(depth == 0 && settings.hide_emitters) {
+            if !(self.depth == 0 && cfg.hide_emitters) {
                 let light = &scene.lights[li as usize];
-                let le = light.l(&si, wo, wl);
+                let le = light.l(si, wo, wl);
                 if !le.is_black() {
-                    let w = emitter_hit_weight(
-                        scene,
-                        li,
-                        specular_bounce,
-                        use_nee,
-                        use_bsdf_hits,
-                        prev_pdf,
-                        || light.pdf_li(&prev_ctx, ray.d, &scene.shapes, Some(&si)),
-                    );
-                    l += beta * le * w;
+                    let d = self.ray.d;
+                    let w = self.emitter_hit_weight(scene, cfg, li, || {
+                        light.pdf_li(&self.prev_ctx, d, &scene.shapes, Some(si))
+                    });
+                    self.l += self.beta * le * w;
                 }
             }
         }
@@ -136,17 +190,17 @@ pub fn radiance(
         if matches!(material, Material::Null) {
             // Mitsuba's `null` BSDF: the surface only marks a boundary (or an emitter); the
             // path continues unchanged and the crossing does not count as a bounce.
-            null_crossings += 1;
-            if null_crossings > SAFETY_DEPTH {
-                break;
+            self.null_crossings += 1;
+            if self.null_crossings > SAFETY_DEPTH {
+                return (false, None);
             }
-            ray = Ray::spawn(si.p, si.ng, ray.d);
-            continue;
+            self.ray = Ray::spawn(si.p, si.ng, self.ray.d);
+            return (true, None);
         }
 
-        depth += 1;
-        if depth >= max_depth {
-            break;
+        self.depth += 1;
+        if self.depth >= cfg.max_depth {
+            return (false, None);
         }
 
         let front = si.ng.dot(wo) >= 0.0;
@@ -154,23 +208,24 @@ pub fn radiance(
         let (bxdf, two_sided) = material.eval(&tc, wl, front, sampler.vertex_seed());
         let bsdf = Bsdf {
             frame: material.shading_frame(
-                &si,
+                si,
                 wo,
-                scene.camera.footprint(scene.height, path_length),
+                scene.camera.footprint(scene.height, self.path_length),
             ),
             bxdf,
             two_sided,
         };
         let flags = bsdf.flags();
         if flags.0 == 0 {
-            break;
+            return (false, None);
         }
 
         // Next-event estimation. The light sample's dimensions are drawn at every vertex so
         // that later bounces use the same sampler dimensions whatever the material.
         let u_light = sampler.get_1d();
         let u = sampler.get_2d();
-        if use_nee && flags.is_non_specular() {
+        let mut shadow = None;
+        if cfg.use_nee && flags.is_non_specular() {
             let ctx = LightSampleContext { p: si.p, n: si.ng };
             if let Some((li, pmf)) = scene.light_sampler.sample(u_light) {
                 let light = &scene.lights[li];
@@ -178,16 +233,18 @@ pub fn radiance(
                     if ls.pdf > 0.0 && !ls.l.is_black() {
                         let f = bsdf.f(wo, ls.wi, TransportMode::Radiance)
                             * ls.wi.dot(bsdf.frame.n).abs();
-                        if !f.is_black() && !scene.occluded(&Ray::spawn_to(si.p, si.ng, ls.p_light))
-                        {
+                        if !f.is_black() {
                             let light_pdf = pmf * ls.pdf;
-                            let w = if ls.is_delta || strategy == PathStrategy::LightOnly {
+                            let w = if ls.is_delta || cfg.strategy == PathStrategy::LightOnly {
                                 1.0
                             } else {
                                 let bsdf_pdf = bsdf.pdf(wo, ls.wi, TransportMode::Radiance);
                                 power_heuristic(light_pdf, bsdf_pdf)
                             };
-                            l += beta * f * ls.l * (w / light_pdf);
+                            shadow = Some(ShadowRay {
+                                ray: Ray::spawn_to(si.p, si.ng, ls.p_light),
+                                contribution: self.beta * f * ls.l * (w / light_pdf),
+                            });
                         }
                     }
                 }
@@ -198,68 +255,99 @@ pub fn radiance(
         let uc = sampler.get_1d();
         let u = sampler.get_2d();
         let Some(bs) = bsdf.sample_f(wo, uc, u, TransportMode::Radiance) else {
-            break;
+            return (false, shadow);
         };
         let cos = bs.wi.dot(bsdf.frame.n).abs();
-        beta *= bs.f * (cos / bs.pdf);
-        if !beta.is_finite() {
-            break;
+        self.beta *= bs.f * (cos / bs.pdf);
+        if !self.beta.is_finite() {
+            return (false, shadow);
         }
-        prev_pdf = if bs.pdf_is_proportional {
+        self.prev_pdf = if bs.pdf_is_proportional {
             bsdf.pdf(wo, bs.wi, TransportMode::Radiance)
         } else {
             bs.pdf
         };
-        specular_bounce = bs.is_specular();
+        self.specular_bounce = bs.is_specular();
         if bs.is_transmission() {
-            eta_scale *= bs.eta * bs.eta;
+            self.eta_scale *= bs.eta * bs.eta;
         }
-        prev_ctx = LightSampleContext { p: si.p, n: si.ng };
-        ray = Ray::spawn(si.p, si.ng, bs.wi);
+        self.prev_ctx = LightSampleContext { p: si.p, n: si.ng };
+        self.ray = Ray::spawn(si.p, si.ng, bs.wi);
 
         // Russian roulette on the throughput, corrected for radiance compression at refraction.
-        if depth >= settings.rr_depth {
-            let q = (beta.max_value() * eta_scale).min(0.95);
+        if self.depth >= cfg.rr_depth {
+            let q = (self.beta.max_value() * self.eta_scale).min(0.95);
             if !(q > 0.0) || sampler.get_1d() >= q {
-                break;
+                return (false, shadow);
             }
-            beta /= q;
+            self.beta /= q;
         }
-        if beta.is_black() {
-            break;
-        }
+        (!self.beta.is_black(), shadow)
     }
-    // NaN/Inf never reach the film.
-    if l.is_finite() {
-        l
-    } else {
-        SampledSpectrum::ZERO
+
+    /// MIS weight for emission found by BSDF sampling.
+    #[inline]
+    fn emitter_hit_weight(
+        &self,
+        scene: &Scene,
+        cfg: &PathConfig,
+        light: u32,
+        pdf_li: impl FnOnce() -> f32,
+    ) -> f32 {
+        if self.specular_bounce {
+            // Light sampling cannot produce this path (camera ray or delta lobe).
+            return 1.0;
+        }
+        if !cfg.use_bsdf_hits {
+            return 0.0;
+        }
+        if !cfg.use_nee {
+            return 1.0;
+        }
+        let light_pdf = scene.light_sampler.pmf(light as usize) * pdf_li();
+        power_heuristic(self.prev_pdf, light_pdf)
     }
 }
 
-/// MIS weight for emission found by BSDF sampling.
-#[inline]
-fn emitter_hit_weight(
+/// Estimates the radiance arriving along a camera ray at the path's wavelengths (with the
+/// scene's integrator: `direct` scenes are handed to [`super::direct::radiance`]).
+pub fn radiance(
     scene: &Scene,
-    light: u32,
-    specular_bounce: bool,
-    use_nee: bool,
-    use_bsdf_hits: bool,
-    prev_pdf: f32,
-    pdf_li: impl FnOnce() -> f32,
-) -> f32 {
-    if specular_bounce {
-        // Light sampling cannot produce this path (camera ray or delta lobe).
-        return 1.0;
+    ray: Ray,
+    wl: &SampledWavelengths,
+    sampler: &mut Sampler,
+    strategy: PathStrategy,
+) -> SampledSpectrum {
+    if let IntegratorKind::Direct {
+        emitter_samples,
+        bsdf_samples,
+    } = scene.integrator.kind
+    {
+        let counts = match strategy {
+            PathStrategy::Mis => (emitter_samples, bsdf_samples),
+            PathStrategy::LightOnly => (emitter_samples, 0),
+            PathStrategy::BsdfOnly => (0, bsdf_samples),
+        };
+        return super::direct::radiance(scene, ray, wl, sampler, counts);
     }
-    if !use_bsdf_hits {
-        return 0.0;
+    let cfg = PathConfig::new(scene, strategy);
+    let mut path = PathState::new(ray);
+    loop {
+        let Some((_, si)) = scene.intersect(&path.ray) else {
+            path.escape(scene, &cfg, wl);
+            break;
+        };
+        let (alive, shadow) = path.scatter(scene, &cfg, wl, &si, sampler);
+        if let Some(s) = shadow {
+            if !scene.occluded(&s.ray) {
+                path.l += s.contribution;
+            }
+        }
+        if !alive {
+            break;
+        }
     }
-    if !use_nee {
-        return 1.0;
-    }
-    let light_pdf = scene.light_sampler.pmf(light as usize) * pdf_li();
-    power_heuristic(prev_pdf, light_pdf)
+    path.radiance()
 }
 
 // The `path` plugin: its declaration and loader (the estimator is above).

@@ -60,17 +60,18 @@ pub(crate) fn refract(wi: Vec3, n: Vec3, eta: f32) -> Option<Vec3> {
 
 /// Power heuristic with β = 2 for multiple importance sampling (Veach 1997).
 #[inline]
-pub(crate) fn power_heuristic(f_pdf: f32, g_pdf: f32) -> f32 {
+pub fn power_heuristic(f_pdf: f32, g_pdf: f32) -> f32 {
+    power_heuristic_lanes(f_pdf, g_pdf)
+}
+
+/// [`power_heuristic`] on lanes.
+#[inline(always)]
+pub fn power_heuristic_lanes<F: crate::simd::Float>(f_pdf: F, g_pdf: F) -> F {
     let f = f_pdf * f_pdf;
     let g = g_pdf * g_pdf;
-    if f.is_infinite() {
-        return 1.0;
-    }
-    if f + g == 0.0 {
-        0.0
-    } else {
-        f / (f + g)
-    }
+    let sum = f + g;
+    let w = F::select(sum.eq(F::splat(0.0)), F::splat(0.0), f / sum);
+    F::select(f.eq(F::splat(f32::INFINITY)), F::splat(1.0), w)
 }
 
 #[cfg(test)]

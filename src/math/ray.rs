@@ -4,6 +4,7 @@
 //! Ray Tracing Gems (2019), ch. 6: the origin is moved along the geometric normal by a number of
 //! ulps that scales with the magnitude of the coordinates, so it works at any scene scale.
 
+use crate::simd::{Float, Int, V3};
 use glam::Vec3;
 
 /// A ray with origin `o`, unit direction `d`, and a parametric extent `[0, t_max)`.
@@ -35,24 +36,37 @@ impl Ray {
     /// side of the surface that `d` points into.
     #[inline]
     pub fn spawn(p: Vec3, ng: Vec3, d: Vec3) -> Ray {
-        let n = if ng.dot(d) < 0.0 { -ng } else { ng };
-        Ray::new(offset_ray_origin(p, n), d)
+        Ray::new(spawn_origin(p.into(), ng.into(), d.into()).into(), d)
     }
 
     /// A shadow ray from surface point `p` (normal `ng`) towards `target`, stopping just short.
     #[inline]
     pub fn spawn_to(p: Vec3, ng: Vec3, target: Vec3) -> Ray {
-        let to = target - p;
-        let n = if ng.dot(to) < 0.0 { -ng } else { ng };
-        let o = offset_ray_origin(p, n);
-        let d = target - o;
-        let dist = d.length();
+        let (o, d, t_max) = spawn_to(p.into(), ng.into(), target.into());
         Ray {
-            o,
-            d: d / dist,
-            t_max: dist * (1.0 - 1e-4),
+            o: o.into(),
+            d: d.into(),
+            t_max,
         }
     }
+}
+
+/// The origin of [`Ray::spawn`] on lanes.
+#[inline(always)]
+pub fn spawn_origin<F: Float>(p: V3<F>, ng: V3<F>, d: V3<F>) -> V3<F> {
+    let flip = ng.dot(d).lt(F::splat(0.0));
+    offset_origin(p, V3::select(flip, -ng, ng))
+}
+
+/// [`Ray::spawn_to`] on lanes: (origin, unit direction, t_max).
+#[inline(always)]
+pub fn spawn_to<F: Float>(p: V3<F>, ng: V3<F>, target: V3<F>) -> (V3<F>, V3<F>, F) {
+    let to = target - p;
+    let flip = ng.dot(to).lt(F::splat(0.0));
+    let o = offset_origin(p, V3::select(flip, -ng, ng));
+    let d = target - o;
+    let dist = d.length();
+    (o, d / dist, dist * F::splat(1.0 - 1e-4))
 }
 
 const ORIGIN: f32 = 1.0 / 32.0;
@@ -62,18 +76,25 @@ const INT_SCALE: f32 = 256.0;
 /// Moves `p` off the surface along `n` (which must point to the side the new ray leaves into).
 #[inline]
 pub fn offset_ray_origin(p: Vec3, n: Vec3) -> Vec3 {
-    #[inline]
-    fn one(p: f32, n: f32) -> f32 {
-        let of_i = (INT_SCALE * n) as i32;
-        let bits = p.to_bits() as i32;
-        let moved = f32::from_bits((bits + if p < 0.0 { -of_i } else { of_i }) as u32);
-        if p.abs() < ORIGIN {
-            p + FLOAT_SCALE * n
-        } else {
-            moved
-        }
+    offset_origin(p.into(), n.into()).into()
+}
+
+/// [`offset_ray_origin`] on lanes.
+#[inline(always)]
+pub fn offset_origin<F: Float>(p: V3<F>, n: V3<F>) -> V3<F> {
+    #[inline(always)]
+    fn one<F: Float>(p: F, n: F) -> F {
+        let of_i = (F::splat(INT_SCALE) * n).to_int();
+        let neg = p.lt(F::splat(0.0));
+        let step = F::I::select(neg, F::I::splat(0) - of_i, of_i);
+        let moved = F::from_bits(p.to_bits() + step);
+        F::select(
+            p.abs().lt(F::splat(ORIGIN)),
+            p + F::splat(FLOAT_SCALE) * n,
+            moved,
+        )
     }
-    Vec3::new(one(p.x, n.x), one(p.y, n.y), one(p.z, n.z))
+    V3::new(one(p.x, n.x), one(p.y, n.y), one(p.z, n.z))
 }
 
 #[cfg(test)]

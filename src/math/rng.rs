@@ -6,7 +6,7 @@ use glam::Vec2;
 const MULT: u64 = 0x5851_f42d_4c95_7f2d;
 
 /// A small, fast, seedable generator with independent streams.
-#[derive(Clone, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Pcg32 {
     state: u64,
     inc: u64,

@@ -2,36 +2,63 @@
 //! concentric disk; the rest are standard inversions, see pbrt-v4 ch. A.5).
 
 use super::{safe_sqrt, INV_4PI, INV_PI, PI};
+use crate::simd::fastmath::sin_cos;
+use crate::simd::{Float, V3};
 use glam::{Vec2, Vec3};
 
 /// Uniform point on the unit disk (concentric mapping, low distortion).
 #[inline]
-pub(crate) fn square_to_uniform_disk_concentric(u: Vec2) -> Vec2 {
-    let o = 2.0 * u - Vec2::ONE;
-    if o.x == 0.0 && o.y == 0.0 {
-        return Vec2::ZERO;
-    }
-    let (r, theta) = if o.x.abs() > o.y.abs() {
-        (o.x, PI / 4.0 * (o.y / o.x))
-    } else {
-        (o.y, PI / 2.0 - PI / 4.0 * (o.x / o.y))
-    };
-    let (s, c) = theta.sin_cos();
-    Vec2::new(r * c, r * s)
+pub fn square_to_uniform_disk_concentric(u: Vec2) -> Vec2 {
+    let (x, y) = disk_concentric(u.x, u.y);
+    Vec2::new(x, y)
+}
+
+/// [`square_to_uniform_disk_concentric`] on lanes.
+#[inline(always)]
+pub fn disk_concentric<F: Float>(ux: F, uy: F) -> (F, F) {
+    let one = F::splat(1.0);
+    let zero = F::splat(0.0);
+    let ox = F::splat(2.0) * ux - one;
+    let oy = F::splat(2.0) * uy - one;
+    let centre = ox.eq(zero) & oy.eq(zero);
+    let wide = ox.abs().gt(oy.abs());
+    let r = F::select(wide, ox, oy);
+    let theta = F::select(
+        wide,
+        F::splat(PI / 4.0) * (oy / ox),
+        F::splat(PI / 2.0) - F::splat(PI / 4.0) * (ox / oy),
+    );
+    let (s, c) = sin_cos(theta);
+    (
+        F::select(centre, zero, r * c),
+        F::select(centre, zero, r * s),
+    )
 }
 
 /// Cosine-weighted direction on the upper (z > 0) hemisphere.
 #[inline]
 pub fn square_to_cosine_hemisphere(u: Vec2) -> Vec3 {
-    let d = square_to_uniform_disk_concentric(u);
-    let z = safe_sqrt(1.0 - d.length_squared());
-    Vec3::new(d.x, d.y, z)
+    cosine_hemisphere(u.x, u.y).into()
+}
+
+/// [`square_to_cosine_hemisphere`] on lanes.
+#[inline(always)]
+pub fn cosine_hemisphere<F: Float>(ux: F, uy: F) -> V3<F> {
+    let (x, y) = disk_concentric(ux, uy);
+    let z = (F::splat(1.0) - (x * x + y * y)).safe_sqrt();
+    V3::new(x, y, z)
 }
 
 /// Density of [`square_to_cosine_hemisphere`] (solid angle).
 #[inline]
-pub(crate) fn square_to_cosine_hemisphere_pdf(v: Vec3) -> f32 {
-    v.z.max(0.0) * INV_PI
+pub fn square_to_cosine_hemisphere_pdf(v: Vec3) -> f32 {
+    cosine_hemisphere_pdf(v.z)
+}
+
+/// [`square_to_cosine_hemisphere_pdf`] on lanes, from the direction's z.
+#[inline(always)]
+pub fn cosine_hemisphere_pdf<F: Float>(z: F) -> F {
+    z.max(F::splat(0.0)) * F::splat(INV_PI)
 }
 
 /// Uniform direction on the unit sphere.
@@ -62,16 +89,20 @@ pub(crate) fn square_to_uniform_cone(u: Vec2, cos_max: f32) -> Vec3 {
 /// Uniform barycentric coordinates (b0, b1) on a triangle (Heitz 2019, "A Low-Distortion Map
 /// Between Triangle and Square"); b2 = 1 − b0 − b1.
 #[inline]
-pub(crate) fn square_to_uniform_triangle(u: Vec2) -> Vec2 {
-    let (b0, b1);
-    if u.x < u.y {
-        b0 = u.x / 2.0;
-        b1 = u.y - b0;
-    } else {
-        b1 = u.y / 2.0;
-        b0 = u.x - b1;
-    }
+pub fn square_to_uniform_triangle(u: Vec2) -> Vec2 {
+    let (b0, b1) = uniform_triangle(u.x, u.y);
     Vec2::new(b0, b1)
+}
+
+/// [`square_to_uniform_triangle`] on lanes.
+#[inline(always)]
+pub fn uniform_triangle<F: Float>(ux: F, uy: F) -> (F, F) {
+    let first = ux.lt(uy);
+    let half = F::splat(2.0);
+    let (a0, a1) = (ux / half, uy / half);
+    let b0 = F::select(first, a0, ux - a1);
+    let b1 = F::select(first, uy - a0, a1);
+    (b0, b1)
 }
 
 #[cfg(test)]

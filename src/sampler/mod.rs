@@ -21,52 +21,34 @@ pub enum SamplerKind {
 const SOBOL_DIMS: u32 = 256;
 const SOBOL_MAX_INDEX: u32 = 1 << 16;
 
-/// A per-thread sampler.
-#[derive(Clone, Debug)]
-pub struct Sampler {
-    kind: SamplerKind,
-    seed: u64,
+/// What a sampler carries from one draw to the next within a pixel sample: the PCG stream,
+/// the pixel's seed, the sample index and the next dimension. The wavefront integrator keeps
+/// one per path and draws from it directly.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SamplerState {
     rng: Pcg32,
     pixel_seed: u32,
     index: u32,
     dim: u32,
 }
 
-impl Sampler {
-    /// A sampler of the given kind with a global `seed`.
-    pub fn new(kind: SamplerKind, seed: u64) -> Sampler {
-        Sampler {
-            kind,
-            seed,
-            rng: Pcg32::new(seed, 0),
-            pixel_seed: 0,
-            index: 0,
+impl SamplerState {
+    /// The state of sample `index` of pixel (x, y) under the global `seed`.
+    #[inline]
+    pub fn start(seed: u64, x: u32, y: u32, index: u32) -> SamplerState {
+        let pix = mix64(seed ^ mix64(((y as u64) << 32) | x as u64));
+        SamplerState {
+            rng: Pcg32::new(pix, index as u64),
+            pixel_seed: pix as u32,
+            index,
             dim: 0,
         }
     }
 
-    /// Prepares sample `index` of pixel (x, y).
+    /// Next 1D sample in [0, 1) of the sequence `kind`.
     #[inline]
-    pub fn start_pixel_sample(&mut self, x: u32, y: u32, index: u32) {
-        let pix = mix64(self.seed ^ mix64(((y as u64) << 32) | x as u64));
-        self.pixel_seed = pix as u32;
-        self.index = index;
-        self.dim = 0;
-        self.rng = Pcg32::new(pix, index as u64);
-    }
-
-    /// A seed for the stochastic BSDFs at the current path vertex: a hash of the pixel
-    /// sample and the dimensions drawn so far, so it differs from vertex to vertex without
-    /// consuming any of the sampler's numbers.
-    #[inline]
-    pub fn vertex_seed(&self) -> u64 {
-        mix64(((self.pixel_seed as u64) << 32 | self.index as u64) ^ mix64(self.dim as u64 + 1))
-    }
-
-    /// Next 1D sample in [0, 1).
-    #[inline]
-    pub fn get_1d(&mut self) -> f32 {
-        match self.kind {
+    pub fn next_1d(&mut self, kind: SamplerKind) -> f32 {
+        match kind {
             SamplerKind::Sobol if self.dim < SOBOL_DIMS && self.index < SOBOL_MAX_INDEX => {
                 let v = sobol_burley::sample(self.index, self.dim, self.pixel_seed);
                 self.dim += 1;
@@ -77,6 +59,81 @@ impl Sampler {
                 self.rng.next_f32()
             }
         }
+    }
+
+    /// A seed for the stochastic BSDFs at the current path vertex: a hash of the pixel
+    /// sample and the dimensions drawn so far, so it differs from vertex to vertex without
+    /// consuming any of the sampler's numbers.
+    #[inline]
+    pub fn vertex_seed(&self) -> u64 {
+        mix64(((self.pixel_seed as u64) << 32 | self.index as u64) ^ mix64(self.dim as u64 + 1))
+    }
+}
+
+/// A per-thread sampler.
+#[derive(Clone, Debug)]
+pub struct Sampler {
+    kind: SamplerKind,
+    seed: u64,
+    st: SamplerState,
+}
+
+impl Sampler {
+    /// A sampler of the given kind with a global `seed`.
+    pub fn new(kind: SamplerKind, seed: u64) -> Sampler {
+        Sampler {
+            kind,
+            seed,
+            st: SamplerState {
+                rng: Pcg32::new(seed, 0),
+                pixel_seed: 0,
+                index: 0,
+                dim: 0,
+            },
+        }
+    }
+
+    /// A sampler continuing the pixel sample whose state is `st`.
+    #[inline]
+    pub fn resume(kind: SamplerKind, seed: u64, st: SamplerState) -> Sampler {
+        Sampler { kind, seed, st }
+    }
+
+    /// The sequence this sampler draws from.
+    #[inline]
+    pub fn kind(&self) -> SamplerKind {
+        self.kind
+    }
+
+    /// The current pixel sample's state.
+    #[inline]
+    pub fn state(&self) -> SamplerState {
+        self.st
+    }
+
+    /// Continues a pixel sample from its state (see [`Sampler::state`]).
+    #[inline]
+    pub fn set_state(&mut self, s: SamplerState) {
+        self.st = s;
+    }
+
+    /// Prepares sample `index` of pixel (x, y).
+    #[inline]
+    pub fn start_pixel_sample(&mut self, x: u32, y: u32, index: u32) {
+        self.st = SamplerState::start(self.seed, x, y, index);
+    }
+
+    /// A seed for the stochastic BSDFs at the current path vertex (see
+    /// [`SamplerState::vertex_seed`]).
+    #[inline]
+    pub fn vertex_seed(&self) -> u64 {
+        self.st.vertex_seed()
+    }
+
+    /// Next 1D sample in [0, 1).
+    #[inline]
+    pub fn get_1d(&mut self) -> f32 {
+        self.st.next_1d(self.kind)
     }
 
     /// Next 2D sample in [0, 1)².

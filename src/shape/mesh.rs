@@ -171,6 +171,34 @@ impl TriangleMesh {
         })
     }
 
+    /// Whether normals are flipped (`flip_normals`).
+    #[inline]
+    pub(crate) fn flips_normals(&self) -> bool {
+        self.flip_normals
+    }
+
+    /// The corner indices of triangle `prim`.
+    #[inline]
+    pub(crate) fn triangle(&self, prim: u32) -> [u32; 3] {
+        self.indices[prim as usize]
+    }
+
+    /// Vertex position `k`.
+    #[inline]
+    pub(crate) fn position(&self, k: u32) -> Vec3 {
+        self.positions[k as usize]
+    }
+
+    /// The UVs of triangle `prim`'s corners (defaults without vertex UVs) and their vertex
+    /// normals (if the mesh has them), as [`TriangleMesh::interaction_at`] uses them.
+    #[inline]
+    pub(crate) fn corner_attributes(&self, prim: u32) -> ([Vec2; 3], Option<[Vec3; 3]>) {
+        let tri = self.indices[prim as usize];
+        let uv = self.uv_corners(Some(tri));
+        let n = self.normals.as_ref().map(|n| tri.map(|k| n[k as usize]));
+        (uv, n)
+    }
+
     /// Number of zero-area triangles dropped at construction.
     pub fn degenerate_dropped(&self) -> usize {
         self.dropped
@@ -306,7 +334,7 @@ impl TriangleMesh {
     }
 
     /// The alias table over the triangle areas (built on the first call).
-    fn alias(&self) -> &AliasTable {
+    pub(crate) fn alias(&self) -> &AliasTable {
         self.alias.get_or_init(|| {
             let areas: Vec<f64> = (0..self.indices.len())
                 .map(|i| self.triangle_area(i))

@@ -189,17 +189,24 @@ impl Shape {
 
 /// Converts an area density at `p` (normal `n`) to a solid-angle density seen from `ref_p`.
 #[inline]
-pub(crate) fn area_to_solid_angle(pdf_area: f32, ref_p: Vec3, p: Vec3, n: Vec3) -> f32 {
+pub fn area_to_solid_angle(pdf_area: f32, ref_p: Vec3, p: Vec3, n: Vec3) -> f32 {
+    area_to_solid_angle_lanes(pdf_area, ref_p.into(), p.into(), n.into())
+}
+
+/// [`area_to_solid_angle`] on lanes.
+#[inline(always)]
+pub fn area_to_solid_angle_lanes<F: crate::simd::Float>(
+    pdf_area: F,
+    ref_p: crate::simd::V3<F>,
+    p: crate::simd::V3<F>,
+    n: crate::simd::V3<F>,
+) -> F {
+    let zero = F::splat(0.0);
     let d = p - ref_p;
     let dist2 = d.length_squared();
-    if dist2 == 0.0 {
-        return 0.0;
-    }
     let cos = (n.dot(d) / dist2.sqrt()).abs();
-    if cos == 0.0 {
-        return 0.0;
-    }
-    pdf_area * dist2 / cos
+    let pdf = pdf_area * dist2 / cos;
+    F::select(dist2.eq(zero) | cos.eq(zero), zero, pdf)
 }
 
 /// Whether `x` is a positive finite number (false for NaN).

@@ -12,6 +12,8 @@
 //! Both curves are linearly interpolated between table entries, which is how the CIE tabulates
 //! them; outside 360–830 nm they are 0.
 
+use crate::simd::{Float, Int};
+
 include!(concat!(env!("OUT_DIR"), "/cie_tables.rs"));
 
 /// ∫ ȳ(λ) dλ over 360–830 nm (the 1 nm table's sum × 1 nm, ≈ 106.857).
@@ -20,35 +22,59 @@ pub const CIE_Y_INTEGRAL: f32 = CIE_Y_SUM;
 const LMIN: f32 = 360.0;
 const LMAX: f32 = 830.0;
 
-/// Index and fraction of `lambda` on a grid of spacing `step` nm starting at 360 nm, or `None`
-/// outside 360–830 nm (NaN included).
-#[inline]
-fn locate(lambda: f32, step: f32, len: usize) -> Option<(usize, f32)> {
-    if !(LMIN..=LMAX).contains(&lambda) {
-        return None;
-    }
-    let x = (lambda - LMIN) / step;
-    let i = (x as usize).min(len - 2);
-    Some((i, x - i as f32))
-}
-
 /// x̄, ȳ, z̄ at `lambda` nm (0 outside 360–830).
 pub fn xyz_bar(lambda: f32) -> [f32; 3] {
-    match locate(lambda, 1.0, CIE_Y.len()) {
-        None => [0.0; 3],
-        Some((i, t)) => {
-            let lerp = |a: &[f32]| a[i] + t * (a[i + 1] - a[i]);
-            [lerp(&CIE_X), lerp(&CIE_Y), lerp(&CIE_Z)]
-        }
-    }
+    xyz_bar_lanes(lambda)
 }
 
 /// D65 normalised so that ∫ D65·ȳ dλ / CIE_Y_INTEGRAL = 1.
 pub fn d65(lambda: f32) -> f32 {
-    match locate(lambda, 5.0, D65_5NM.len()) {
-        None => 0.0,
-        Some((i, t)) => D65_SCALE * (D65_5NM[i] + t * (D65_5NM[i + 1] - D65_5NM[i])),
-    }
+    d65_lanes(lambda)
+}
+
+/// Where `lambda` falls on a grid of spacing `step` nm from 360 nm: (inside 360–830 nm, index,
+/// fraction); lanes outside (NaN included) get index 0.
+#[inline(always)]
+fn locate_lanes<F: Float>(lambda: F, step: f32, len: usize) -> (F::M, F::I, F) {
+    let inside = lambda.ge(F::splat(LMIN)) & lambda.le(F::splat(LMAX));
+    let x = (lambda - F::splat(LMIN)) / F::splat(step);
+    let last = F::I::splat(len as i32 - 2);
+    let i = x.to_int();
+    let i = F::I::select(i.gt(last), last, i);
+    let i = F::I::select(inside, i, F::I::splat(0));
+    (inside, i, x - F::from_int(i))
+}
+
+/// Linear interpolation in `table` at (index, fraction).
+#[inline(always)]
+fn lerp_lanes<F: Float>(table: &[f32], i: F::I, t: F) -> F {
+    let a = F::gather(table, i);
+    let b = F::gather(table, i + F::I::splat(1));
+    a + t * (b - a)
+}
+
+/// [`xyz_bar`] on lanes.
+#[inline(always)]
+pub fn xyz_bar_lanes<F: Float>(lambda: F) -> [F; 3] {
+    let (inside, i, t) = locate_lanes(lambda, 1.0, CIE_Y.len());
+    let zero = F::splat(0.0);
+    // Written out rather than mapped: see `integrator::wave::vertex::spec`.
+    [
+        F::select(inside, lerp_lanes(&CIE_X, i, t), zero),
+        F::select(inside, lerp_lanes(&CIE_Y, i, t), zero),
+        F::select(inside, lerp_lanes(&CIE_Z, i, t), zero),
+    ]
+}
+
+/// [`d65`] on lanes.
+#[inline(always)]
+pub fn d65_lanes<F: Float>(lambda: F) -> F {
+    let (inside, i, t) = locate_lanes(lambda, 5.0, D65_5NM.len());
+    F::select(
+        inside,
+        F::splat(D65_SCALE) * lerp_lanes(&D65_5NM, i, t),
+        F::splat(0.0),
+    )
 }
 
 #[inline]

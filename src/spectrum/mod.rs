@@ -236,16 +236,27 @@ pub fn sample_visible_wavelength(u: f32) -> f32 {
 /// density is a (1 − t²)/(t1 − t0): no hyperbolic function needs evaluating besides atanh.
 #[inline]
 pub fn sample_visible_wavelength_pdf(u: f32) -> (f32, f32) {
-    // tanh(0.0072 (360 − 538)) and tanh(0.0072 (830 − 538)), precomputed in f64.
-    const T0: f32 = -0.856_910_6;
-    const T1: f32 = 0.970_591_35;
-    let t = T0 + u * (T1 - T0);
-    let l = VIS_C + 0.5 * ((1.0 + t) / (1.0 - t)).ln() / VIS_A;
+    let (l, pdf) = sample_visible_wavelength_lanes(u);
     if !(LAMBDA_MIN..=LAMBDA_MAX).contains(&l) {
         let l = l.clamp(LAMBDA_MIN, LAMBDA_MAX);
         return (l, visible_wavelength_pdf(l));
     }
-    (l, VIS_A * (1.0 - t * t) / (T1 - T0))
+    (l, pdf)
+}
+
+// tanh(0.0072 (360 − 538)) and tanh(0.0072 (830 − 538)), precomputed in f64.
+const T0: f32 = -0.856_910_6;
+const T1: f32 = 0.970_591_35;
+
+/// [`sample_visible_wavelength_pdf`] on lanes, without the clamp of the rare results that
+/// rounding puts outside 360–830 nm (the caller checks them).
+#[inline(always)]
+pub fn sample_visible_wavelength_lanes<F: crate::simd::Float>(u: F) -> (F, F) {
+    let one = F::splat(1.0);
+    let t = F::splat(T0) + u * F::splat(T1 - T0);
+    let l = F::splat(VIS_C)
+        + F::splat(0.5) * crate::simd::fastmath::ln((one + t) / (one - t)) / F::splat(VIS_A);
+    (l, F::splat(VIS_A) * (one - t * t) / F::splat(T1 - T0))
 }
 
 #[cfg(test)]

@@ -30,12 +30,26 @@ pub struct SigmoidPolynomial {
 /// S(x) = ½ + x / (2√(1 + x²)); ±∞ → 1 or 0, NaN → 0 (no energy from malformed input).
 #[inline]
 fn sigmoid(x: f32) -> f32 {
-    // Clamping first makes the formula safe without branches (so four lanes vectorise): NaN
-    // goes to −1e18 (S = 0, as `max` drops a NaN), and beyond ±1e18, where 1 + x² would
-    // overflow, S is within 1e-36 of its limit, which the clamped value gives exactly.
-    #[allow(clippy::manual_clamp)] // `clamp` would keep a NaN; `max` drops it.
-    let x = x.max(-1e18).min(1e18);
-    0.5 + 0.5 * x / (1.0 + x * x).sqrt()
+    sigmoid_lanes(x)
+}
+
+/// [`SigmoidPolynomial`]'s sigmoid on lanes.
+#[inline(always)]
+pub fn sigmoid_lanes<F: crate::simd::Float>(x: F) -> F {
+    // Clamping first makes the formula safe without branches: NaN goes to −1e18 (S = 0, as
+    // `max` drops a NaN), and beyond ±1e18, where 1 + x² would overflow, S is within 1e-36 of
+    // its limit, which the clamped value gives exactly.
+    let x = x.max(F::splat(-1e18)).min(F::splat(1e18));
+    F::splat(0.5) + F::splat(0.5) * x / (F::splat(1.0) + x * x).sqrt()
+}
+
+/// [`SigmoidPolynomial::eval`] on lanes, with coefficients per lane.
+#[inline(always)]
+pub fn sigmoid_poly_lanes<F: crate::simd::Float>(c0: F, c1: F, c2: F, lambda: F) -> F {
+    // With c0 = c1 = 0 and c2 = ±∞ (constant 0 or 1) the products are 0, not NaN.
+    let zero = F::splat(0.0);
+    let constant = c0.eq(zero) & c1.eq(zero);
+    sigmoid_lanes(F::select(constant, c2, (c0 * lambda + c1) * lambda + c2))
 }
 
 impl SigmoidPolynomial {

@@ -4,6 +4,7 @@
 
 use super::rgb2spec::{rgb_to_sigmoid, SigmoidPolynomial};
 use super::{cie, SampledSpectrum, SampledWavelengths};
+use crate::simd::{Float, Int};
 use std::sync::Arc;
 
 /// A piecewise-linear function of wavelength (nm), constant beyond its ends.
@@ -30,16 +31,45 @@ impl PiecewiseLinear {
 
     /// Value at `l` nm.
     pub fn eval(&self, l: f32) -> f32 {
+        self.eval_lanes(l)
+    }
+
+    /// [`PiecewiseLinear::eval`] on lanes: a binary search of fixed length for the last knot
+    /// at or below each lane's wavelength (the knot `partition_point` would find), then the
+    /// same interpolation.
+    #[inline(always)]
+    pub fn eval_lanes<F: Float>(&self, l: F) -> F {
         let n = self.lambda.len();
-        if l <= self.lambda[0] {
-            return self.values[0];
+        let first = F::splat(self.lambda[0]);
+        let last = F::splat(self.lambda[n - 1]);
+        if n == 1 {
+            return F::splat(self.values[0]);
         }
-        if l >= self.lambda[n - 1] {
-            return self.values[n - 1];
+        // Invariant: lambda[lo] <= l (for lanes inside the range); `len` knots from lo on.
+        let mut lo = F::I::splat(0);
+        let mut len = n;
+        while len > 1 {
+            let half = len / 2;
+            let probe = lo + F::I::splat(half as i32);
+            let below = F::gather(&self.lambda, probe).le(l);
+            lo = F::I::select(below, probe, lo);
+            len -= half;
         }
-        let i = self.lambda.partition_point(|&x| x <= l) - 1;
-        let t = (l - self.lambda[i]) / (self.lambda[i + 1] - self.lambda[i]);
-        self.values[i] + t * (self.values[i + 1] - self.values[i])
+        // The last segment starts at n − 2.
+        let cap = F::I::splat(n as i32 - 2);
+        let i = F::I::select(lo.gt(cap), cap, lo);
+        let (l0, l1) = (
+            F::gather(&self.lambda, i),
+            F::gather(&self.lambda, i + F::I::splat(1)),
+        );
+        let (v0, v1) = (
+            F::gather(&self.values, i),
+            F::gather(&self.values, i + F::I::splat(1)),
+        );
+        let t = (l - l0) / (l1 - l0);
+        let v = v0 + t * (v1 - v0);
+        let v = F::select(l.ge(last), F::splat(self.values[n - 1]), v);
+        F::select(l.le(first), F::splat(self.values[0]), v)
     }
 }
 

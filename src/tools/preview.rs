@@ -28,6 +28,7 @@ pub fn render_file(
         spp: scene.sampler.spp,
         time_limit: None,
         strategy: crate::integrator::PathStrategy::Mis,
+        engine: crate::render::Engine::Auto,
     };
     render(
         &scene,

@@ -1,6 +1,8 @@
 //! Helpers shared by the integration tests.
 #![allow(dead_code)]
 
+pub mod scenes;
+
 use ophis::film::Film;
 use ophis::integrator::PathStrategy;
 use ophis::render::{render, NoProgress, RenderOptions};
@@ -24,6 +26,7 @@ pub fn render_rgb(scene: &Scene, spp: u32, strategy: PathStrategy) -> Vec<[f32; 
         spp,
         time_limit: None,
         strategy,
+        engine: ophis::render::Engine::Auto,
     };
     render(
         scene,

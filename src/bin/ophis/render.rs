@@ -8,7 +8,7 @@ use ophis::film::Film;
 use ophis::image_io::{write_exr, write_exr_channels, write_png, RgbImage};
 use ophis::integrator::PathStrategy;
 use ophis::merge::{render_metadata, SceneIdentity};
-use ophis::render::{render_with, Progress, RenderControl, RenderOptions, TileOrder};
+use ophis::render::{render_with, Engine, Progress, RenderControl, RenderOptions, TileOrder};
 use ophis::scene::build::{load_scene_into, load_scene_str_into, LoadOptions};
 use ophis::scene::builtin::XENOPELTIS_XML;
 use ophis::scene::mitsuba;
@@ -65,6 +65,10 @@ pub struct RenderArgs {
     /// Tile order: `row` (default), `reversed` or `shuffled`. The image does not depend on it.
     #[arg(long, default_value = "row", value_parser = ["row", "reversed", "shuffled"])]
     tile_order: String,
+    /// Integrator implementation: `auto` (default: the wavefront integrator where it supports
+    /// the scene) or `scalar` (one path at a time). The image does not depend on it.
+    #[arg(long, default_value = "auto", value_parser = ["auto", "scalar"])]
+    engine: String,
     /// No progress bar.
     #[arg(short, long)]
     quiet: bool,
@@ -364,6 +368,10 @@ pub fn run(args: RenderArgs) -> Result<()> {
             "light" => PathStrategy::LightOnly,
             "bsdf" => PathStrategy::BsdfOnly,
             _ => PathStrategy::Mis,
+        },
+        engine: match args.engine.as_str() {
+            "scalar" => Engine::Scalar,
+            _ => Engine::Auto,
         },
     };
     let bar = if args.quiet {

@@ -1,0 +1,263 @@
+//! The wavefront integrator: the paths of a tile advanced together, one vertex at a time, rays
+//! traced in batches and the common vertices shaded in SIMD lanes.
+//!
+//! # How the data flows
+//!
+//! A tile's pass is a list of jobs, one per (pixel, sample index), in the order the scalar
+//! loop takes them. A [`pool::Pool`] of at most [`POOL`] live paths, stored as one array per
+//! field, is kept full from that list; each round
+//!
+//! 1. **refills** the pool: new jobs draw their wavelengths, filter offset and lens sample
+//!    and get their camera ray, exactly as [`crate::render`]'s scalar loop does;
+//! 2. **traces** every live path's ray in one batch ([`crate::accel::Bvh::intersect_raw_n`]);
+//! 3. **shades** the pool in chunks of lanes ([`vertex::shade_chunk`]): hits that
+//!    [`program::Program`] marks (the materials and lights the lanes implement) run the vertex
+//!    in lanes, the rest run the scalar estimator ([`PathState::escape`] /
+//!    [`PathState::scatter`]) path by path; both hand back shadow rays instead of tracing them;
+//! 4. **traces the shadow rays** in one batch and adds the contributions of unoccluded ones;
+//! 5. **retires** the paths that ended, writing their XYZ value to their job's slot, and
+//!    fills each hole with the last live path.
+//!
+//! The lanes compute what the scalar code computes, operation for operation (see
+//! [`crate::simd`]), every path draws from its own sampler state in the scalar order, and each
+//! pixel's samples are summed in sample order at the end: a tile is bit-identical to the
+//! scalar loop's, which `tests/wavefront.rs` checks on every scene.
+//!
+//! Lanes are eight wide on CPUs with AVX2 (the code is compiled for AVX2 and for AVX-512,
+//! chosen at run time like the accelerator's traversal) and one wide elsewhere.
+
+mod bsdf;
+mod pool;
+pub mod program;
+mod surface;
+mod vertex;
+
+pub use pool::POOL;
+pub use program::Program as WaveProgram;
+
+use super::path::{PathConfig, PathState, PathStrategy};
+use crate::accel::{Isa, RawHit};
+use crate::film::spectrum_to_xyz;
+use crate::math::{Ray, Vec2};
+use crate::sampler::SamplerState;
+use crate::scene::Scene;
+use crate::simd::Float;
+use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+use pool::{Pool, MISS};
+use program::Program;
+use vertex::Ctx;
+
+/// Whether the wavefront integrator can render `scene` (the `path` integrator, without AOVs).
+pub fn supports(scene: &Scene) -> bool {
+    scene.integrator.aov.is_none()
+        && matches!(scene.integrator.kind, crate::scene::IntegratorKind::Path)
+}
+
+/// The shadow rays of a round: the path each belongs to, the ray, and the radiance it adds
+/// when unoccluded.
+pub(super) struct Shadows {
+    slot: Vec<u32>,
+    rays: Vec<Ray>,
+    contribution: Vec<SampledSpectrum>,
+    blocked: Vec<bool>,
+}
+
+impl Shadows {
+    fn new() -> Shadows {
+        Shadows {
+            slot: Vec::with_capacity(POOL),
+            rays: Vec::with_capacity(POOL),
+            contribution: Vec::with_capacity(POOL),
+            blocked: Vec::with_capacity(POOL),
+        }
+    }
+
+    #[inline]
+    pub(super) fn push(&mut self, slot: u32, ray: Ray, c: SampledSpectrum) {
+        self.slot.push(slot);
+        self.rays.push(ray);
+        self.contribution.push(c);
+    }
+
+    fn clear(&mut self) {
+        self.slot.clear();
+        self.rays.clear();
+        self.contribution.clear();
+    }
+}
+
+/// Renders samples [s0, s1) of every pixel of the tile with corner (x0, y0) and far corner
+/// (x1, y1) (exclusive); returns per-pixel sums (X, Y, Z, count), row-major.
+pub fn render_tile(
+    scene: &Scene,
+    prog: &Program,
+    corner: (u32, u32),
+    far: (u32, u32),
+    samples: (u32, u32),
+    strategy: PathStrategy,
+) -> Vec<[f64; 4]> {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use crate::simd::F8;
+        #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+        fn avx2(
+            s: &Scene,
+            p: &Program,
+            c: (u32, u32),
+            f: (u32, u32),
+            n: (u32, u32),
+            st: PathStrategy,
+        ) -> Vec<[f64; 4]> {
+            run::<F8>(s, p, c, f, n, st)
+        }
+        #[target_feature(
+            enable = "avx512f,avx512vl,avx512bw,avx512dq,avx2,fma,bmi1,bmi2,lzcnt,popcnt"
+        )]
+        fn avx512(
+            s: &Scene,
+            p: &Program,
+            c: (u32, u32),
+            f: (u32, u32),
+            n: (u32, u32),
+            st: PathStrategy,
+        ) -> Vec<[f64; 4]> {
+            run::<F8>(s, p, c, f, n, st)
+        }
+        match scene.bvh.isa() {
+            // SAFETY: the BVH only holds an instruction set the CPU supports (`Isa::best`,
+            // `Bvh::set_isa`).
+            Isa::Avx512 => return unsafe { avx512(scene, prog, corner, far, samples, strategy) },
+            Isa::Avx2 => return unsafe { avx2(scene, prog, corner, far, samples, strategy) },
+            Isa::Baseline => {}
+        }
+    }
+    run::<f32>(scene, prog, corner, far, samples, strategy)
+}
+
+/// The rounds of [`render_tile`] with lanes of type `F`.
+#[inline(always)]
+fn run<F: Float>(
+    scene: &Scene,
+    prog: &Program,
+    (x0, y0): (u32, u32),
+    (x1, y1): (u32, u32),
+    (s0, s1): (u32, u32),
+    strategy: PathStrategy,
+) -> Vec<[f64; 4]> {
+    let ctx = Ctx {
+        scene,
+        prog,
+        cfg: PathConfig::new(scene, strategy),
+        kind: scene.sampler.kind,
+    };
+    let (tw, th) = (x1 - x0, y1 - y0);
+    let spp = s1 - s0;
+    let jobs = tw * th * spp;
+    let mut results = vec![[0.0f32; 3]; jobs as usize];
+    let inv = Vec2::new(1.0 / scene.width as f32, 1.0 / scene.height as f32);
+    let mut pool = Pool::new();
+    let mut rays: Vec<Ray> = Vec::with_capacity(POOL);
+    let mut hits: Vec<Option<RawHit>> = Vec::with_capacity(POOL);
+    let mut shadows = Shadows::new();
+    let mut next = 0u32;
+
+    loop {
+        // 1. Refill.
+        while pool.n < POOL && next < jobs {
+            let job = next;
+            next += 1;
+            let pixel = job / spp;
+            let (x, y) = (x0 + pixel % tw, y0 + pixel / tw);
+            let mut st = SamplerState::start(scene.sampler.seed, x, y, s0 + job % spp);
+            let kind = ctx.kind;
+            let wl = SampledWavelengths::sample_visible(st.next_1d(kind));
+            let u = Vec2::new(st.next_1d(kind), st.next_1d(kind));
+            let offset = scene.filter.sample(u);
+            let film_p = (Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset) * inv;
+            let lens = if scene.camera.needs_aperture_sample() {
+                Vec2::new(st.next_1d(kind), st.next_1d(kind))
+            } else {
+                Vec2::splat(0.5)
+            };
+            let ray = scene.camera.generate_ray(film_p, lens);
+            pool.push(&PathState::new(ray), &wl, st, job);
+        }
+        if pool.n == 0 {
+            break;
+        }
+        let n = pool.n;
+
+        // 2. Trace.
+        rays.clear();
+        rays.extend((0..n).map(|i| pool.ray(i)));
+        hits.clear();
+        hits.resize(n, None);
+        scene.bvh.intersect_raw_n(&scene.shapes, &rays, &mut hits);
+        for (i, h) in hits.iter().enumerate() {
+            pool.hit[i] = *h;
+            match h {
+                None => pool.h_shape[i] = MISS,
+                Some(h) => {
+                    pool.h_shape[i] = h.hit.shape;
+                    pool.h_prim[i] = h.hit.prim;
+                    pool.h_t[i] = h.hit.t;
+                    pool.h_u[i] = h.hit.uv.x;
+                    pool.h_v[i] = h.hit.uv.y;
+                    pool.h_block[i] = h.block;
+                    pool.h_lane[i] = h.lane;
+                }
+            }
+        }
+
+        // 3. Shade.
+        shadows.clear();
+        for base in (0..n).step_by(F::LANES) {
+            vertex::shade_chunk::<F>(&ctx, &mut pool, base, &mut shadows);
+        }
+
+        // 4. Shadow rays.
+        shadows.blocked.clear();
+        shadows.blocked.resize(shadows.rays.len(), false);
+        scene
+            .bvh
+            .occluded_n(&scene.shapes, &shadows.rays, &mut shadows.blocked);
+        for ((&i, c), &b) in shadows
+            .slot
+            .iter()
+            .zip(&shadows.contribution)
+            .zip(&shadows.blocked)
+        {
+            if !b {
+                for k in 0..4 {
+                    pool.l[k][i as usize] += c[k];
+                }
+            }
+        }
+
+        // 5. Retire and compact.
+        pool.compact(|p, i| {
+            let l = SampledSpectrum(std::array::from_fn(|k| p.l[k][i]));
+            let l = if l.is_finite() {
+                l
+            } else {
+                SampledSpectrum::ZERO
+            };
+            results[p.job[i] as usize] = spectrum_to_xyz(&l, &p.wavelengths(i));
+        });
+    }
+
+    // Per-pixel sums in sample order, as the scalar loop adds them.
+    results
+        .chunks(spp as usize)
+        .map(|samples| {
+            let mut acc = [0.0f64; 4];
+            for xyz in samples {
+                acc[0] += xyz[0] as f64;
+                acc[1] += xyz[1] as f64;
+                acc[2] += xyz[2] as f64;
+                acc[3] += 1.0;
+            }
+            acc
+        })
+        .collect()
+}

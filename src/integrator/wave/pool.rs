@@ -1,0 +1,217 @@
+//! The paths in flight, structure of arrays: one array per field, so that lanes load and store
+//! consecutive paths at once. Every array is [`CAP`] long (the pool plus a chunk of padding, so
+//! that a chunk starting at any live path stays in bounds); the first `n` entries are live,
+//! in no particular order.
+
+use crate::accel::RawHit;
+use crate::integrator::path::PathState;
+use crate::light::LightSampleContext;
+use crate::math::{Ray, Vec3};
+use crate::sampler::SamplerState;
+use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+
+/// Most paths in flight per tile.
+pub const POOL: usize = 1024;
+/// Array length: the pool and a chunk of the widest lanes.
+pub(super) const CAP: usize = POOL + 16;
+
+/// Hit shape index of a ray that escaped.
+pub(super) const MISS: u32 = u32::MAX;
+
+/// Four arrays, one per wavelength.
+pub(super) type Spectra = [Vec<f32>; 4];
+
+fn spectra() -> Spectra {
+    std::array::from_fn(|_| vec![0.0; CAP])
+}
+
+/// The live paths; see the module header.
+pub(super) struct Pool {
+    /// Number of live paths.
+    pub n: usize,
+    pub o: [Vec<f32>; 3],
+    pub d: [Vec<f32>; 3],
+    pub t_max: Vec<f32>,
+    pub l: Spectra,
+    pub beta: Spectra,
+    pub lambda: Spectra,
+    pub wl_pdf: Spectra,
+    pub eta_scale: Vec<f32>,
+    pub prev_pdf: Vec<f32>,
+    pub path_length: Vec<f32>,
+    pub specular: Vec<u32>,
+    pub depth: Vec<u32>,
+    pub null_crossings: Vec<u32>,
+    pub prev_p: [Vec<f32>; 3],
+    pub prev_n: [Vec<f32>; 3],
+    pub sampler: Vec<SamplerState>,
+    /// Index of the job (pixel sample) in the tile's pass.
+    pub job: Vec<u32>,
+    /// Whether the path goes on after this round (1) or ends (0).
+    pub alive: Vec<u32>,
+    /// This round's closest hit, as the traversal returned it.
+    pub hit: Vec<Option<RawHit>>,
+    /// The hit's shape ([`MISS`] for an escaped ray), primitive, parameter and coordinates.
+    pub h_shape: Vec<u32>,
+    pub h_prim: Vec<u32>,
+    pub h_t: Vec<f32>,
+    pub h_u: Vec<f32>,
+    pub h_v: Vec<f32>,
+    pub h_block: Vec<u32>,
+    pub h_lane: Vec<u32>,
+}
+
+fn v3() -> [Vec<f32>; 3] {
+    std::array::from_fn(|_| vec![0.0; CAP])
+}
+
+impl Pool {
+    pub fn new() -> Pool {
+        Pool {
+            n: 0,
+            o: v3(),
+            d: v3(),
+            t_max: vec![0.0; CAP],
+            l: spectra(),
+            beta: spectra(),
+            lambda: spectra(),
+            wl_pdf: spectra(),
+            eta_scale: vec![0.0; CAP],
+            prev_pdf: vec![0.0; CAP],
+            path_length: vec![0.0; CAP],
+            specular: vec![0; CAP],
+            depth: vec![0; CAP],
+            null_crossings: vec![0; CAP],
+            prev_p: v3(),
+            prev_n: v3(),
+            sampler: vec![SamplerState::start(0, 0, 0, 0); CAP],
+            job: vec![0; CAP],
+            alive: vec![0; CAP],
+            hit: vec![None; CAP],
+            h_shape: vec![MISS; CAP],
+            h_prim: vec![0; CAP],
+            h_t: vec![0.0; CAP],
+            h_u: vec![0.0; CAP],
+            h_v: vec![0.0; CAP],
+            h_block: vec![0; CAP],
+            h_lane: vec![0; CAP],
+        }
+    }
+
+    /// Appends a path.
+    pub fn push(&mut self, path: &PathState, wl: &SampledWavelengths, s: SamplerState, job: u32) {
+        let i = self.n;
+        self.n += 1;
+        self.store_path(i, path);
+        for k in 0..4 {
+            self.lambda[k][i] = wl.lambda[k];
+            self.wl_pdf[k][i] = wl.pdf[k];
+        }
+        self.sampler[i] = s;
+        self.job[i] = job;
+    }
+
+    /// Path `i`'s ray.
+    #[inline]
+    pub fn ray(&self, i: usize) -> Ray {
+        Ray {
+            o: Vec3::new(self.o[0][i], self.o[1][i], self.o[2][i]),
+            d: Vec3::new(self.d[0][i], self.d[1][i], self.d[2][i]),
+            t_max: self.t_max[i],
+        }
+    }
+
+    /// Path `i`'s wavelengths.
+    #[inline]
+    pub fn wavelengths(&self, i: usize) -> SampledWavelengths {
+        SampledWavelengths {
+            lambda: std::array::from_fn(|k| self.lambda[k][i]),
+            pdf: std::array::from_fn(|k| self.wl_pdf[k][i]),
+        }
+    }
+
+    /// Path `i` as the scalar estimator's state.
+    pub fn load_path(&self, i: usize) -> PathState {
+        let spec = |a: &Spectra| SampledSpectrum(std::array::from_fn(|k| a[k][i]));
+        let v = |a: &[Vec<f32>; 3]| Vec3::new(a[0][i], a[1][i], a[2][i]);
+        PathState {
+            ray: self.ray(i),
+            l: spec(&self.l),
+            beta: spec(&self.beta),
+            eta_scale: self.eta_scale[i],
+            specular_bounce: self.specular[i] != 0,
+            prev_pdf: self.prev_pdf[i],
+            prev_ctx: LightSampleContext {
+                p: v(&self.prev_p),
+                n: v(&self.prev_n),
+            },
+            depth: self.depth[i],
+            null_crossings: self.null_crossings[i],
+            path_length: self.path_length[i],
+        }
+    }
+
+    /// Writes the scalar estimator's state back as path `i`.
+    pub fn store_path(&mut self, i: usize, p: &PathState) {
+        for a in 0..3 {
+            self.o[a][i] = p.ray.o[a];
+            self.d[a][i] = p.ray.d[a];
+            self.prev_p[a][i] = p.prev_ctx.p[a];
+            self.prev_n[a][i] = p.prev_ctx.n[a];
+        }
+        self.t_max[i] = p.ray.t_max;
+        for k in 0..4 {
+            self.l[k][i] = p.l[k];
+            self.beta[k][i] = p.beta[k];
+        }
+        self.eta_scale[i] = p.eta_scale;
+        self.specular[i] = p.specular_bounce as u32;
+        self.prev_pdf[i] = p.prev_pdf;
+        self.depth[i] = p.depth;
+        self.null_crossings[i] = p.null_crossings;
+        self.path_length[i] = p.path_length;
+    }
+
+    /// Copies every per-path field of `from` to `to` (compaction; hits are not kept).
+    fn move_path(&mut self, from: usize, to: usize) {
+        macro_rules! mv {
+            ($($a:expr),*) => { $( $a[to] = $a[from]; )* };
+        }
+        for a in 0..3 {
+            mv!(self.o[a], self.d[a], self.prev_p[a], self.prev_n[a]);
+        }
+        for k in 0..4 {
+            mv!(self.l[k], self.beta[k], self.lambda[k], self.wl_pdf[k]);
+        }
+        mv!(
+            self.t_max,
+            self.eta_scale,
+            self.prev_pdf,
+            self.path_length,
+            self.specular,
+            self.depth,
+            self.null_crossings,
+            self.sampler,
+            self.job
+        );
+    }
+
+    /// Removes the paths whose `alive` is 0; `retire` sees each removed path's index first.
+    /// Each hole is filled with the last path (only dead paths cost a move).
+    pub fn compact(&mut self, mut retire: impl FnMut(&Pool, usize)) {
+        let mut i = 0;
+        while i < self.n {
+            if self.alive[i] != 0 {
+                i += 1;
+                continue;
+            }
+            retire(self, i);
+            self.n -= 1;
+            let last = self.n;
+            if i != last {
+                self.move_path(last, i);
+                self.alive[i] = self.alive[last];
+            }
+        }
+    }
+}

@@ -1,0 +1,527 @@
+//! One path vertex for a chunk of consecutive paths, in lanes.
+//!
+//! This is [`PathState::escape`] / [`PathState::scatter`] of [`crate::integrator::path`]
+//! rewritten over [`Float`] lanes for the hits that [`Program`] marks as lane hits, with the
+//! same operations in the same order, so each lane ends with the bits the scalar code would
+//! give it. Lanes die where the scalar code returns: a mask (`alive`) follows them, every
+//! sampler draw and every store is made only for the lanes the scalar code would draw or
+//! store for. The other paths of the chunk (escaped rays, other materials) run the scalar
+//! code itself, one after the other.
+//!
+//! Parts that need a different table per lane (a triangle's corners and UVs, the light picked,
+//! a point on its triangle) are fetched lane by lane; the arithmetic runs in lanes.
+
+use super::bsdf::LaneBsdf;
+use super::pool::{Pool, Spectra, MISS};
+use super::program::{
+    Program, SpectrumTable, SPEC_ALBEDO, SPEC_CONSTANT, SPEC_CURVE, SPEC_ILLUMINANT, SPEC_UNBOUNDED,
+};
+use super::{surface, Shadows};
+use crate::integrator::path::{PathConfig, PathStrategy};
+use crate::light::LightSampleContext;
+use crate::math::frame::FrameL;
+use crate::math::ray::{spawn_origin, spawn_to};
+use crate::math::warp::uniform_triangle;
+use crate::math::{power_heuristic_lanes, Vec2};
+use crate::sampler::{Sampler, SamplerKind};
+use crate::scene::Scene;
+use crate::shape::{area_to_solid_angle_lanes, Shape};
+use crate::simd::{Float, Int, Mask, V3};
+use crate::spectrum::cie::d65_lanes;
+use crate::spectrum::rgb2spec::sigmoid_poly_lanes;
+use crate::spectrum::SampledSpectrum;
+
+/// What every chunk of a tile shares.
+pub(super) struct Ctx<'a> {
+    pub scene: &'a Scene,
+    pub prog: &'a Program,
+    pub cfg: PathConfig,
+    pub kind: SamplerKind,
+}
+
+/// A spectrum at the path's four wavelengths, in lanes.
+pub(super) type Spec<F> = [F; 4];
+
+/// `[e(0), e(1), e(2), e(3)]` for an expression `e` of `k`. Not a closure: a closure is
+/// compiled as a function of its own, without the caller's instruction set, and unless it
+/// is inlined every lane operation inside it becomes a call.
+macro_rules! spec {
+    ($k:ident => $e:expr) => {
+        [
+            {
+                let $k = 0;
+                $e
+            },
+            {
+                let $k = 1;
+                $e
+            },
+            {
+                let $k = 2;
+                $e
+            },
+            {
+                let $k = 3;
+                $e
+            },
+        ]
+    };
+}
+
+#[inline(always)]
+fn load3<F: Float>(a: &[Vec<f32>; 3], base: usize) -> V3<F> {
+    V3::new(
+        F::load(&a[0][base..]),
+        F::load(&a[1][base..]),
+        F::load(&a[2][base..]),
+    )
+}
+
+/// Rows `k .. k + 3` of a lane table as vectors.
+#[inline(always)]
+pub(super) fn load_v3<F: Float>(w: &[[f32; 16]], k: usize) -> V3<F> {
+    V3::new(F::load(&w[k]), F::load(&w[k + 1]), F::load(&w[k + 2]))
+}
+
+#[inline(always)]
+fn store_masked<F: Float>(a: &mut [f32], base: usize, m: F::M, v: F) {
+    let old = F::load(&a[base..]);
+    F::select(m, v, old).store(&mut a[base..]);
+}
+
+#[inline(always)]
+fn store_masked_int<F: Float>(a: &mut [u32], base: usize, m: F::M, v: F::I) {
+    let old = F::I::load(&a[base..]);
+    F::I::select(m, v, old).store(&mut a[base..]);
+}
+
+#[inline(always)]
+fn store3_masked<F: Float>(a: &mut [Vec<f32>; 3], base: usize, m: F::M, v: V3<F>) {
+    store_masked(&mut a[0], base, m, v.x);
+    store_masked(&mut a[1], base, m, v.y);
+    store_masked(&mut a[2], base, m, v.z);
+}
+
+#[inline(always)]
+fn load_spec<F: Float>(a: &Spectra, base: usize) -> Spec<F> {
+    spec!(k => F::load(&a[k][base..]))
+}
+
+#[inline(always)]
+fn store_spec_masked<F: Float>(a: &mut Spectra, base: usize, m: F::M, v: Spec<F>) {
+    for k in 0..4 {
+        store_masked(&mut a[k], base, m, v[k]);
+    }
+}
+
+/// Whether every component is zero, per lane ([`SampledSpectrum::is_black`]).
+#[inline(always)]
+pub(super) fn is_black<F: Float>(s: &Spec<F>) -> F::M {
+    let z = F::splat(0.0);
+    s[0].eq(z) & s[1].eq(z) & s[2].eq(z) & s[3].eq(z)
+}
+
+/// Whether every component is finite, per lane.
+#[inline(always)]
+pub(super) fn is_finite<F: Float>(s: &Spec<F>) -> F::M {
+    s[0].is_finite() & s[1].is_finite() & s[2].is_finite() & s[3].is_finite()
+}
+
+/// Bits of a mask, iterated.
+#[inline(always)]
+pub(super) fn lanes(bits: u32) -> impl Iterator<Item = usize> {
+    let mut b = bits;
+    std::iter::from_fn(move || {
+        (b != 0).then(|| {
+            let i = b.trailing_zeros() as usize;
+            b &= b - 1;
+            i
+        })
+    })
+}
+
+/// Next sampler value of each lane in `m` (others 0), drawn lane by lane in lane order.
+#[inline(always)]
+fn draw<F: Float>(pool: &mut Pool, base: usize, m: F::M, kind: SamplerKind) -> F {
+    let mut u = [0.0f32; 16];
+    for i in lanes(m.bits()) {
+        u[i] = pool.sampler[base + i].next_1d(kind);
+    }
+    F::load(&u)
+}
+
+/// Table spectra at the lanes' wavelengths ([`crate::spectrum::Spectrum::sample`]).
+#[inline(always)]
+pub(super) fn eval_spectrum<F: Float>(t: &SpectrumTable, idx: F::I, lambda: &Spec<F>) -> Spec<F> {
+    let mode = F::I::gather(&t.mode, idx);
+    let (c0, c1, c2) = (
+        F::gather(&t.c0, idx),
+        F::gather(&t.c1, idx),
+        F::gather(&t.c2, idx),
+    );
+    let scale = F::gather(&t.scale, idx);
+    let constant = mode.eq(F::I::splat(SPEC_CONSTANT as i32));
+    let albedo = mode.eq(F::I::splat(SPEC_ALBEDO as i32));
+    let unbounded = mode.eq(F::I::splat(SPEC_UNBOUNDED as i32));
+    let illuminant = mode.eq(F::I::splat(SPEC_ILLUMINANT as i32));
+    let any_illuminant = illuminant.any();
+    // A loop, not `spec`: this body is too large for a closure to be inlined.
+    let mut out = [c0; 4];
+    for (o, &l) in out.iter_mut().zip(lambda) {
+        let s = sigmoid_poly_lanes(c0, c1, c2, l);
+        let mut v = F::select(unbounded, s * scale, s);
+        if any_illuminant {
+            v = F::select(illuminant, scale * s * d65_lanes(l), v);
+        }
+        let v = F::select(albedo, s, v);
+        *o = F::select(constant, c0, v);
+    }
+    let curves = mode.eq(F::I::splat(SPEC_CURVE as i32));
+    if curves.any() {
+        // Tabulated curves, one distinct curve at a time.
+        let curve = F::I::gather(&t.curve, idx);
+        let mut todo = curves.bits();
+        while todo != 0 {
+            let c = curve.lane(todo.trailing_zeros() as usize);
+            let this = curves & curve.eq(F::I::splat(c));
+            let pl = &t.curves[c as usize];
+            for (o, &l) in out.iter_mut().zip(lambda) {
+                *o = F::select(this, pl.eval_lanes(l), *o);
+            }
+            todo &= !this.bits();
+        }
+    }
+    out
+}
+
+/// A sampled light direction in lanes ([`crate::light::LightLiSample`]).
+struct LightSample<F: Float> {
+    valid: F::M,
+    l: Spec<F>,
+    wi: V3<F>,
+    pdf: F,
+    p_light: V3<F>,
+    delta: F::M,
+    /// The probability of having picked the light.
+    pmf: F,
+}
+
+/// Shades the paths `base .. base + F::LANES` (those below `pool.n`) that hit something or
+/// escaped this round; see the module header.
+#[inline(always)]
+pub(super) fn shade_chunk<F: Float>(c: &Ctx, pool: &mut Pool, base: usize, shadows: &mut Shadows) {
+    let n = pool.n - base;
+    let active = F::M::from_bits(if n >= 32 { u32::MAX } else { (1u32 << n) - 1 });
+    let shape = F::I::load(&pool.h_shape[base..]);
+    let miss = shape.eq(F::I::splat(MISS as i32));
+    let shape = F::I::select(miss, F::I::splat(0), shape);
+    let in_lanes = F::I::gather(&c.prog.shape_lanes, shape).eq(F::I::splat(1));
+    let vector = active.and_not(miss) & in_lanes;
+    for i in lanes(active.and_not(vector).bits()) {
+        scalar_vertex(c, pool, base + i, shadows);
+    }
+    if vector.any() {
+        vector_vertex::<F>(c, pool, base, vector, shape, shadows);
+    }
+}
+
+/// The scalar estimator for path `i`.
+fn scalar_vertex(c: &Ctx, pool: &mut Pool, i: usize, shadows: &mut Shadows) {
+    let mut path = pool.load_path(i);
+    let wl = pool.wavelengths(i);
+    let alive = match pool.hit[i] {
+        None => {
+            path.escape(c.scene, &c.cfg, &wl);
+            false
+        }
+        Some(h) => {
+            let si = c.scene.bvh.raw_interaction(&c.scene.shapes, &h, &path.ray);
+            let mut sampler = Sampler::resume(c.kind, c.scene.sampler.seed, pool.sampler[i]);
+            let (alive, shadow) = path.scatter(c.scene, &c.cfg, &wl, &si, &mut sampler);
+            pool.sampler[i] = sampler.state();
+            if let Some(s) = shadow {
+                shadows.push(i as u32, s.ray, s.contribution);
+            }
+            alive
+        }
+    };
+    pool.store_path(i, &path);
+    pool.alive[i] = alive as u32;
+}
+
+/// The vertex in lanes for the lanes of `m` (all of which hit a shape of `shape`).
+#[inline(always)]
+fn vector_vertex<F: Float>(
+    c: &Ctx,
+    pool: &mut Pool,
+    base: usize,
+    m: F::M,
+    shape: F::I,
+    shadows: &mut Shadows,
+) {
+    let (prog, cfg) = (c.prog, &c.cfg);
+    let zero = F::splat(0.0);
+    let one = F::splat(1.0);
+    let d = load3::<F>(&pool.d, base);
+    let wo = -d;
+    let lambda = load_spec::<F>(&pool.lambda, base);
+    let mut beta = load_spec::<F>(&pool.beta, base);
+    let mut l = load_spec::<F>(&pool.l, base);
+
+    let surface::Surface { p, ng, ns, dpdu } = surface::surfaces::<F>(c, pool, base, m, shape);
+    let t = F::load(&pool.h_t[base..]);
+    let path_length = F::load(&pool.path_length[base..]) + t;
+    store_masked(&mut pool.path_length, base, m, path_length);
+
+    // Emission from an area light that the path hit.
+    let depth = F::I::load(&pool.depth[base..]);
+    let specular = F::I::load(&pool.specular[base..]).eq(F::I::splat(1));
+    let prev_pdf = F::load(&pool.prev_pdf[base..]);
+    let emit1 = F::I::gather(&prog.shape_emit, shape);
+    let mut emit = m.and_not(emit1.eq(F::I::splat(0)));
+    if cfg.hide_emitters {
+        emit = emit.and_not(depth.eq(F::I::splat(0)));
+    }
+    if emit.any() {
+        let light = F::I::select(emit, emit1 - F::I::splat(1), F::I::splat(0));
+        let front = ng.dot(wo).gt(zero);
+        let le = eval_spectrum(
+            &prog.spectra,
+            F::I::gather(&prog.light_spec, light),
+            &lambda,
+        );
+        let le = spec!(k => F::select(front, le[k], zero));
+        let shows = emit.and_not(is_black(&le));
+        if shows.any() {
+            let w = if !cfg.use_bsdf_hits {
+                zero
+            } else if !cfg.use_nee {
+                one
+            } else {
+                let prev_p = load3::<F>(&pool.prev_p, base);
+                let pdf_li = area_to_solid_angle_lanes(
+                    F::gather(&prog.light_inv_area, light),
+                    prev_p,
+                    p,
+                    ng,
+                );
+                power_heuristic_lanes(prev_pdf, F::gather(&prog.light_pmf, light) * pdf_li)
+            };
+            let w = F::select(specular, one, w);
+            for k in 0..4 {
+                l[k] = F::select(shows, l[k] + beta[k] * le[k] * w, l[k]);
+            }
+        }
+    }
+
+    let depth = depth + F::I::splat(1);
+    store_masked_int::<F>(&mut pool.depth, base, m, depth);
+    let mut alive = m.and_not(depth.gt(F::I::splat(cfg.max_depth as i32 - 1)));
+
+    // The BSDF at the hit.
+    let mat = F::I::gather(&prog.shape_mat, shape);
+    let frame = FrameL::from_normal_tangent(ns, dpdu);
+    let bsdf = LaneBsdf::new(prog, alive, mat, &lambda);
+    alive = alive.and_not(bsdf.none());
+    let wo_l = frame.to_local(wo);
+
+    // Next-event estimation. The light sample's dimensions are drawn at every vertex.
+    let u_light = draw::<F>(pool, base, alive, c.kind);
+    let u0 = draw::<F>(pool, base, alive, c.kind);
+    let u1 = draw::<F>(pool, base, alive, c.kind);
+    let nee = alive & bsdf.non_specular();
+    if cfg.use_nee && nee.any() {
+        let wl_pdf = load_spec::<F>(&pool.wl_pdf, base);
+        let ls = sample_lights(c, nee, p, ng, u_light, u0, u1, &lambda, &wl_pdf);
+        let wi_l = frame.to_local(ls.wi);
+        let (f, bsdf_pdf) = bsdf.f_pdf(wo_l, wi_l);
+        let cos = ls.wi.dot(frame.n).abs();
+        let f = spec!(k => f[k] * cos);
+        let ok = nee & ls.valid & ls.pdf.gt(zero);
+        let ok = ok.and_not(is_black(&ls.l)).and_not(is_black(&f));
+        if ok.any() {
+            let light_pdf = ls.pmf * ls.pdf;
+            let w = if cfg.strategy == PathStrategy::LightOnly {
+                one
+            } else {
+                F::select(ls.delta, one, power_heuristic_lanes(light_pdf, bsdf_pdf))
+            };
+            let (so, sd, st) = spawn_to(p, ng, ls.p_light);
+            let contrib: Spec<F> = spec!(k => beta[k] * f[k] * ls.l[k] * (w / light_pdf));
+            for i in lanes(ok.bits()) {
+                let c = spec!(k => contrib[k].lane(i));
+                let ray = crate::math::Ray {
+                    o: so.lane(i),
+                    d: sd.lane(i),
+                    t_max: st.lane(i),
+                };
+                shadows.push((base + i) as u32, ray, SampledSpectrum(c));
+            }
+        }
+    }
+
+    // BSDF sampling.
+    let uc = draw::<F>(pool, base, alive, c.kind);
+    let u0 = draw::<F>(pool, base, alive, c.kind);
+    let u1 = draw::<F>(pool, base, alive, c.kind);
+    let bs = bsdf.sample(alive, wo_l, uc, u0, u1);
+    alive = alive & bs.ok;
+    let wi = frame.to_world(bs.wi);
+    let cos = wi.dot(frame.n).abs();
+    for (b, &f) in beta.iter_mut().zip(&bs.f) {
+        *b = F::select(alive, *b * (f * (cos / bs.pdf)), *b);
+    }
+    alive = alive & is_finite(&beta);
+    let specular_i = F::I::select(bs.specular, F::I::splat(1), F::I::splat(0));
+    let eta_scale = F::load(&pool.eta_scale[base..]);
+    let eta_scale = F::select(bs.transmission, eta_scale * (bs.eta * bs.eta), eta_scale);
+    store_masked(&mut pool.eta_scale, base, alive, eta_scale);
+    store_masked(&mut pool.prev_pdf, base, alive, bs.pdf);
+    store_masked_int::<F>(&mut pool.specular, base, alive, specular_i);
+    store3_masked(&mut pool.prev_p, base, alive, p);
+    store3_masked(&mut pool.prev_n, base, alive, ng);
+    store3_masked(&mut pool.o, base, alive, spawn_origin(p, ng, wi));
+    store3_masked(&mut pool.d, base, alive, wi);
+    store_masked(&mut pool.t_max, base, alive, F::splat(f32::INFINITY));
+
+    // Russian roulette on the throughput, corrected for radiance compression at refraction.
+    let roulette = alive & depth.gt(F::I::splat(cfg.rr_depth as i32 - 1));
+    if roulette.any() {
+        let max = F::splat(f32::NEG_INFINITY)
+            .max(beta[0])
+            .max(beta[1])
+            .max(beta[2])
+            .max(beta[3]);
+        let q = (max * eta_scale).min(F::splat(0.95));
+        // `!(q > 0) || u >= q`: no number is drawn when q is not positive.
+        let u = draw::<F>(pool, base, roulette & q.gt(zero), c.kind);
+        let out = roulette & (!q.gt(zero) | u.ge(q));
+        alive = alive.and_not(out);
+        let keep = roulette.and_not(out);
+        for b in &mut beta {
+            *b = F::select(keep, *b / q, *b);
+        }
+    }
+    alive = alive.and_not(is_black(&beta));
+
+    store_spec_masked(&mut pool.beta, base, m, beta);
+    store_spec_masked(&mut pool.l, base, m, l);
+    let alive_i = F::I::select(alive, F::I::splat(1), F::I::splat(0));
+    store_masked_int::<F>(&mut pool.alive, base, m, alive_i);
+}
+
+/// Picks a light for each lane of `m` and samples a direction to it from (p, ng)
+/// ([`crate::light::LightSampler::sample`] and [`Light::sample_li`]).
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn sample_lights<F: Float>(
+    c: &Ctx,
+    m: F::M,
+    p: V3<F>,
+    ng: V3<F>,
+    u_light: F,
+    u0: F,
+    u1: F,
+    lambda: &Spec<F>,
+    wl_pdf: &Spec<F>,
+) -> LightSample<F> {
+    let (scene, prog) = (c.scene, c.prog);
+    let zero = F::splat(0.0);
+    // Per lane: the light, and what depends on its own tables.
+    let mut light = [0i32; 16];
+    let mut pmf = [0.0f32; 16];
+    let mut chosen = 0u32;
+    let mut in_lanes = 0u32;
+    // Lane lights: the triangle's corners and the remapped u0 (alias table in f64).
+    let mut tri = [[0.0f32; 16]; 9];
+    let mut ux = [0.0f32; 16];
+    // Other lights: the scalar sample.
+    let mut sc = [[0.0f32; 16]; 13];
+    let mut sc_ok = 0u32;
+    let mut delta = 0u32;
+    for i in lanes(m.bits()) {
+        let Some((li, pm)) = scene.light_sampler.sample(u_light.lane(i)) else {
+            continue;
+        };
+        chosen |= 1 << i;
+        light[i] = li as i32;
+        pmf[i] = pm;
+        if prog.light_lanes[li] == 1 {
+            in_lanes |= 1 << i;
+            let Shape::Mesh(mesh) = &scene.shapes[prog.light_shape[li] as usize] else {
+                unreachable!("lane lights are meshes")
+            };
+            let (t, r) = mesh.alias().sample(u0.lane(i));
+            ux[i] = r;
+            let corners = mesh.triangle(t as u32).map(|k| mesh.position(k));
+            for (k, q) in corners.iter().enumerate() {
+                for a in 0..3 {
+                    tri[3 * k + a][i] = q[a];
+                }
+            }
+        } else {
+            let ctx = LightSampleContext {
+                p: p.lane(i),
+                n: ng.lane(i),
+            };
+            let wl = crate::spectrum::SampledWavelengths {
+                lambda: std::array::from_fn(|k| lambda[k].lane(i)),
+                pdf: std::array::from_fn(|k| wl_pdf[k].lane(i)),
+            };
+            let u = Vec2::new(u0.lane(i), u1.lane(i));
+            if let Some(ls) = scene.lights[li].sample_li(&ctx, u, &wl, &scene.shapes) {
+                sc_ok |= 1 << i;
+                delta |= (ls.is_delta as u32) << i;
+                for (row, v) in sc.iter_mut().zip(ls.l.0) {
+                    row[i] = v;
+                }
+                for a in 0..3 {
+                    sc[4 + a][i] = ls.wi[a];
+                    sc[7 + a][i] = ls.p_light[a];
+                }
+                sc[10][i] = ls.pdf;
+            }
+        }
+    }
+
+    let mut out = LightSample {
+        valid: F::M::from_bits(sc_ok),
+        l: spec!(k => F::load(&sc[k])),
+        wi: V3::new(F::load(&sc[4]), F::load(&sc[5]), F::load(&sc[6])),
+        pdf: F::load(&sc[10]),
+        p_light: V3::new(F::load(&sc[7]), F::load(&sc[8]), F::load(&sc[9])),
+        delta: F::M::from_bits(delta),
+        pmf: F::load(&pmf),
+    };
+    if in_lanes != 0 {
+        // Mesh area lights ([`crate::shape::TriangleMesh::sample_direct`] and
+        // [`crate::light::AreaLight::sample_li`]).
+        let lm = F::M::from_bits(in_lanes);
+        let light = F::I::load(&light.map(|x| x as u32));
+        let tv =
+            |k: usize| V3::<F>::new(F::load(&tri[k]), F::load(&tri[k + 1]), F::load(&tri[k + 2]));
+        let (p0, p1, p2) = (tv(0), tv(3), tv(6));
+        let (b0, b1) = uniform_triangle(F::load(&ux), u1);
+        let b2 = F::splat(1.0) - b0 - b1;
+        let pos = p0 * b0 + p1 * b1 + p2 * b2;
+        let n = (p1 - p0).cross(p2 - p0).normalize();
+        let flip = F::I::gather(&prog.light_flip, light).eq(F::I::splat(1));
+        let n = V3::select(flip, -n, n);
+        let pdf = area_to_solid_angle_lanes(F::gather(&prog.light_inv_area, light), p, pos, n);
+        let dd = pos - p;
+        let dist2 = dd.length_squared();
+        let wi = dd / dist2.sqrt();
+        let ok = pdf.gt(zero) & pdf.is_finite() & dist2.gt(zero) & !n.dot(-wi).le(zero);
+        let ok = lm & ok;
+        let le = eval_spectrum(&prog.spectra, F::I::gather(&prog.light_spec, light), lambda);
+        out.valid = out.valid | ok;
+        for (o, &e) in out.l.iter_mut().zip(&le) {
+            *o = F::select(lm, e, *o);
+        }
+        out.wi = V3::select(lm, wi, out.wi);
+        out.pdf = F::select(lm, pdf, out.pdf);
+        out.p_light = V3::select(lm, pos, out.p_light);
+    }
+    let _ = chosen;
+    out
+}

@@ -1,0 +1,190 @@
+//! One lane: [`Float`] for `f32`, [`Int`] for `i32`, [`Mask`] for `bool`. These are the
+//! operations the scalar code performs anyway, so code written against the traits compiles
+//! to the same scalar instructions.
+use super::{Float, Int, Mask};
+
+impl Mask for bool {
+    #[inline(always)]
+    fn splat(v: bool) -> bool {
+        v
+    }
+    #[inline(always)]
+    fn any(self) -> bool {
+        self
+    }
+    #[inline(always)]
+    fn all(self) -> bool {
+        self
+    }
+    #[inline(always)]
+    fn bits(self) -> u32 {
+        self as u32
+    }
+    #[inline(always)]
+    fn from_bits(bits: u32) -> bool {
+        bits & 1 != 0
+    }
+}
+
+impl Int for i32 {
+    type M = bool;
+    #[inline(always)]
+    fn splat(v: i32) -> i32 {
+        v
+    }
+    #[inline(always)]
+    fn mul_lo(self, o: i32) -> i32 {
+        self.wrapping_mul(o)
+    }
+    #[inline(always)]
+    fn shl<const N: i32>(self) -> i32 {
+        ((self as u32) << N) as i32
+    }
+    #[inline(always)]
+    fn shr<const N: i32>(self) -> i32 {
+        ((self as u32) >> N) as i32
+    }
+    #[inline(always)]
+    fn eq(self, o: i32) -> bool {
+        self == o
+    }
+    #[inline(always)]
+    fn lt(self, o: i32) -> bool {
+        self < o
+    }
+    #[inline(always)]
+    fn gt(self, o: i32) -> bool {
+        self > o
+    }
+    #[inline(always)]
+    fn select(m: bool, a: i32, b: i32) -> i32 {
+        if m {
+            a
+        } else {
+            b
+        }
+    }
+    #[inline(always)]
+    fn load(s: &[u32]) -> i32 {
+        s[0] as i32
+    }
+    #[inline(always)]
+    fn store(self, s: &mut [u32]) {
+        s[0] = self as u32;
+    }
+    #[inline(always)]
+    fn gather(s: &[u32], idx: i32) -> i32 {
+        s[idx as usize] as i32
+    }
+    #[inline(always)]
+    fn lane(self, _: usize) -> i32 {
+        self
+    }
+}
+
+impl Float for f32 {
+    type M = bool;
+    type I = i32;
+    const LANES: usize = 1;
+
+    #[inline(always)]
+    fn splat(v: f32) -> f32 {
+        v
+    }
+    #[inline(always)]
+    fn lt(self, o: f32) -> bool {
+        self < o
+    }
+    #[inline(always)]
+    fn le(self, o: f32) -> bool {
+        self <= o
+    }
+    #[inline(always)]
+    fn gt(self, o: f32) -> bool {
+        self > o
+    }
+    #[inline(always)]
+    fn ge(self, o: f32) -> bool {
+        self >= o
+    }
+    #[inline(always)]
+    fn eq(self, o: f32) -> bool {
+        self == o
+    }
+    #[inline(always)]
+    fn ne(self, o: f32) -> bool {
+        self != o
+    }
+    #[inline(always)]
+    fn is_nan(self) -> bool {
+        f32::is_nan(self)
+    }
+    #[inline(always)]
+    fn select(m: bool, a: f32, b: f32) -> f32 {
+        if m {
+            a
+        } else {
+            b
+        }
+    }
+    #[inline(always)]
+    fn min(self, o: f32) -> f32 {
+        f32::min(self, o)
+    }
+    #[inline(always)]
+    fn max(self, o: f32) -> f32 {
+        f32::max(self, o)
+    }
+    #[inline(always)]
+    fn abs(self) -> f32 {
+        f32::abs(self)
+    }
+    #[inline(always)]
+    fn sqrt(self) -> f32 {
+        f32::sqrt(self)
+    }
+    #[inline(always)]
+    fn copysign(self, sign: f32) -> f32 {
+        f32::copysign(self, sign)
+    }
+    #[inline(always)]
+    fn floor(self) -> f32 {
+        f32::floor(self)
+    }
+    #[inline(always)]
+    fn to_bits(self) -> i32 {
+        f32::to_bits(self) as i32
+    }
+    #[inline(always)]
+    fn from_bits(i: i32) -> f32 {
+        f32::from_bits(i as u32)
+    }
+    #[inline(always)]
+    fn to_int(self) -> i32 {
+        self as i32
+    }
+    #[inline(always)]
+    fn from_int(i: i32) -> f32 {
+        i as f32
+    }
+    #[inline(always)]
+    fn load(s: &[f32]) -> f32 {
+        s[0]
+    }
+    #[inline(always)]
+    fn store(self, s: &mut [f32]) {
+        s[0] = self;
+    }
+    #[inline(always)]
+    fn gather(s: &[f32], idx: i32) -> f32 {
+        s[idx as usize]
+    }
+    #[inline(always)]
+    fn lane(self, _: usize) -> f32 {
+        self
+    }
+    #[inline(always)]
+    fn from_fn(mut f: impl FnMut(usize) -> f32) -> f32 {
+        f(0)
+    }
+}
