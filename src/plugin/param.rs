@@ -185,6 +185,10 @@ impl Param {
     pub const fn float(name: &'static str, default: f32) -> Param {
         Param::new(name, Ty::Float, DefaultValue::Float(default))
     }
+    /// A point in the shape's own coordinates; `default` says where it is when absent.
+    pub const fn object_point(name: &'static str, default: &'static str) -> Param {
+        Param::new(name, Ty::Point, DefaultValue::Derived(default)).unit("object space")
+    }
     /// A positive distance in world units, with a default.
     pub const fn length(name: &'static str, default: f32) -> Param {
         Param::float(name, default)

@@ -29,17 +29,15 @@
 //! (Mitsuba only warns; ophis refuses, since area sampling would be wrong).
 use super::{area_to_solid_angle, Hit, ShapeError, ShapeSample, SurfaceInteraction};
 use crate::math::{Bounds3, Frame, Mat4, Ray, Transform, Vec2, Vec3, INV_2PI, PI};
-use crate::plugin::{declare, Args, DefaultValue, Param, SceneError, Ty};
+use crate::plugin::{declare, Args, Param, SceneError};
 use glam::{DVec2, DVec3};
 
 declare!(PLUGIN: super::Parts, Transform = Shape "cylinder" []
     "analytic cylinder side, open at both ends"
     [&[
-        Param::new("p0", Ty::Point, DefaultValue::Derived("(0, 0, 0)"))
-            .unit("object space")
+        Param::object_point("p0", "(0, 0, 0)")
             .doc("start of the axis"),
-        Param::new("p1", Ty::Point, DefaultValue::Derived("(0, 0, 1)"))
-            .unit("object space")
+        Param::object_point("p1", "(0, 0, 1)")
             .doc("end of the axis"),
         super::RADIUS,
     ], super::PLACEMENT] load);

@@ -148,22 +148,9 @@ impl Body<'_> {
                 self.remaining()
             )));
         }
-        let mut b = [0u8; 8];
-        b[..n].copy_from_slice(&self.data[self.pos..self.pos + n]);
+        let v = fast::decode(ty, &self.data[self.pos..], self.format == Format::Big);
         self.pos += n;
-        if self.format == Format::Big {
-            b[..n].reverse();
-        }
-        Ok(match ty {
-            Ty::I8 => b[0] as i8 as f64,
-            Ty::U8 => b[0] as f64,
-            Ty::I16 => i16::from_le_bytes([b[0], b[1]]) as f64,
-            Ty::U16 => u16::from_le_bytes([b[0], b[1]]) as f64,
-            Ty::I32 => i32::from_le_bytes([b[0], b[1], b[2], b[3]]) as f64,
-            Ty::U32 => u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as f64,
-            Ty::F32 => f32::from_le_bytes([b[0], b[1], b[2], b[3]]) as f64,
-            Ty::F64 => f64::from_le_bytes(b),
-        })
+        Ok(v)
     }
 
     fn ascii_value(&mut self, ty: Ty) -> Result<f64, LoadError> {

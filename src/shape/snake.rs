@@ -350,18 +350,7 @@ impl TriangleMesh {
     ) -> Result<Vec<(Part, TriangleMesh)>, MeshError> {
         snake_parts(p)
             .into_iter()
-            .map(|(part, g)| {
-                let m = TriangleMesh::new(
-                    g.positions,
-                    g.normals,
-                    g.uvs,
-                    g.indices,
-                    to_world,
-                    flip_normals,
-                    false,
-                )?;
-                Ok((part, m))
-            })
+            .map(|(part, g)| Ok((part, g.into_mesh(to_world, flip_normals, false)?)))
             .collect()
     }
 }

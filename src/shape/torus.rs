@@ -127,16 +127,7 @@ impl TriangleMesh {
     ) -> Result<TriangleMesh, MeshError> {
         let (nu, nv) =
             segments.unwrap_or((default_segments_major(major, minor), DEFAULT_SEGMENTS_MINOR));
-        let g = torus_geometry(major, minor, nu, nv);
-        TriangleMesh::new(
-            g.positions,
-            g.normals,
-            g.uvs,
-            g.indices,
-            to_world,
-            flip_normals,
-            false,
-        )
+        torus_geometry(major, minor, nu, nv).into_mesh(to_world, flip_normals, false)
     }
 }
 
