@@ -195,8 +195,9 @@ impl StateInfo {
 }
 
 impl RenderState {
+    #[cfg(test)]
     /// Samples per pixel that every pixel holds.
-    pub fn spp_done(&self) -> u32 {
+    pub(crate) fn spp_done(&self) -> u32 {
         self.film
             .pixels
             .iter()
@@ -205,8 +206,9 @@ impl RenderState {
             .unwrap_or(0)
     }
 
+    #[cfg(test)]
     /// The file's bytes.
-    pub fn to_bytes(&self) -> Vec<u8> {
+    pub(crate) fn to_bytes(&self) -> Vec<u8> {
         let mut out = Vec::new();
         self.info
             .encode(&self.film, &mut out)

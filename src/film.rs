@@ -1,20 +1,89 @@
-//! The film: accumulates spectral samples as CIE XYZ and develops them into linear sRGB.
+//! `hdrfilm`: the film. It accumulates spectral samples as CIE XYZ and develops them into
+//! linear sRGB (written as EXR, or PNG when the output name asks for it; `ldrfilm` loads as the
+//! same film).
+//!
+//! ## Parameters
+//!
+//! | parameter | type | default | unit | meaning |
+//! |---|---|---|---|---|
+//! | `width` | integer | 768 | pixels | image width; between 1 and 32768 |
+//! | `height` | integer | 576 | pixels | image height; between 1 and 32768 |
+//! | `(nested)` | rfilter | `gaussian` | — | the reconstruction filter: `box`, `tent` or `gaussian` (the last one given) |
 //!
 //! Reconstruction uses filter importance sampling (Ernst et al. 2006, "Filter Importance
 //! Sampling"): each camera sample is placed at an offset drawn from the pixel filter and
 //! contributes with weight 1 to its own pixel only. For the non-negative filters Mitsuba offers
-//! (`box`, `tent`, `gaussian`) this converges to the same image as splatting, keeps pixels
-//! independent (bit-identical results whatever the thread count), and costs one write per sample.
+//! (`box`, `tent`, `gaussian`, each in its own file beside this one) this converges to the same
+//! image as splatting, keeps pixels independent (bit-identical results whatever the thread
+//! count), and costs one write per sample.
 //!
-//! | XML (`hdrfilm`) | type    | default | meaning                                   |
-//! |-----------------|---------|---------|-------------------------------------------|
-//! | `width`         | integer | 768     | image width in pixels                     |
-//! | `height`        | integer | 576     | image height in pixels                    |
-//! | `rfilter`       | child   | gaussian| `box`, `tent` (radius 1) or `gaussian` (`stddev` 0.5, radius 4σ) |
+//! Known limits: Mitsuba's `file_format`, `pixel_format`, `component_format`, crop window and
+//! `sample_border` are not read (ophis writes RGB EXR or sRGB PNG of the whole image); the
+//! command line's `--resolution` replaces `width` and `height`.
 
 use crate::math::Vec2;
 use crate::simd::{Float, Int};
 use crate::spectrum::{cie, SampledSpectrum, SampledWavelengths, N};
+
+pub(crate) mod box_filter;
+pub(crate) mod gaussian;
+pub(crate) mod tent;
+
+// The `hdrfilm` plugin: its declaration and loader.
+use crate::plugin::{declare, Args, Check, DefaultValue, Param, SceneError, Tag, Ty};
+
+/// Largest image side accepted; beyond this a film is almost certainly a typo, and its buffers
+/// would not fit in memory.
+pub(crate) const MAX_RESOLUTION: i64 = 1 << 15;
+
+/// Mitsuba's default image size, also used without a `<film>`.
+const DEFAULT_SIZE: (i64, i64) = (768, 576);
+
+declare!(PLUGIN: FilmSettings = Film "hdrfilm" ["ldrfilm"]
+    "the image: XYZ accumulation developed to linear sRGB (EXR) or sRGB (PNG)"
+    [&[
+        Param::int("width", DEFAULT_SIZE.0)
+            .check(Check::Range(1.0, MAX_RESOLUTION as f64))
+            .unit("pixels")
+            .doc("image width"),
+        Param::int("height", DEFAULT_SIZE.1)
+            .check(Check::Range(1.0, MAX_RESOLUTION as f64))
+            .unit("pixels")
+            .doc("image height"),
+        Param::new("(nested)", Ty::Object(Tag::Rfilter), DefaultValue::Derived("`gaussian`"))
+            .doc("the reconstruction filter: `box`, `tent` or `gaussian` (the last one given)"),
+    ]] load);
+
+/// What a `<film>` sets: the image size and the reconstruction filter.
+#[derive(Clone, Debug)]
+pub struct FilmSettings {
+    pub width: u32,
+    pub height: u32,
+    pub filter: Filter,
+}
+
+impl Default for FilmSettings {
+    /// Mitsuba's film without parameters.
+    fn default() -> Self {
+        FilmSettings {
+            width: DEFAULT_SIZE.0 as u32,
+            height: DEFAULT_SIZE.1 as u32,
+            filter: Filter::gaussian(gaussian::DEFAULT_STDDEV),
+        }
+    }
+}
+
+fn load(a: &mut Args, _: ()) -> Result<FilmSettings, SceneError> {
+    let mut film = FilmSettings {
+        width: a.int("width")? as u32,
+        height: a.int("height")? as u32,
+        ..FilmSettings::default()
+    };
+    for f in a.children(Tag::Rfilter) {
+        film.filter = crate::plugin::registry::rfilter(f, a.warnings())?;
+    }
+    Ok(film)
+}
 
 /// A separable pixel reconstruction filter.
 #[derive(Clone, Debug)]
@@ -27,42 +96,10 @@ pub enum Filter {
     Gaussian { stddev: f32, inv_cdf: Vec<f32> },
 }
 
+/// Entries of the Gaussian's inverse-CDF table (built in `gaussian.rs`).
 const GAUSS_TABLE: usize = 1024;
 
 impl Filter {
-    /// A Gaussian filter with a tabulated inverse CDF for sampling.
-    pub fn gaussian(stddev: f32) -> Filter {
-        let r = 4.0 * stddev;
-        let f = |x: f32| {
-            ((-x * x / (2.0 * stddev * stddev)).exp() - (-r * r / (2.0 * stddev * stddev)).exp())
-                .max(0.0)
-        };
-        // CDF on a fine grid over [−r, r], inverted at GAUSS_TABLE + 1 evenly spaced levels.
-        let m = 8192;
-        let h = 2.0 * r / m as f32;
-        let mut cdf = vec![0.0f64; m + 1];
-        for i in 0..m {
-            let x = -r + (i as f32 + 0.5) * h;
-            cdf[i + 1] = cdf[i] + f(x) as f64;
-        }
-        let total = cdf[m];
-        let mut inv = Vec::with_capacity(GAUSS_TABLE + 1);
-        let mut j = 0;
-        for k in 0..=GAUSS_TABLE {
-            let target = total * k as f64 / GAUSS_TABLE as f64;
-            while j < m && cdf[j + 1] < target {
-                j += 1;
-            }
-            let seg = (cdf[(j + 1).min(m)] - cdf[j]).max(1e-300);
-            let t = ((target - cdf[j]) / seg).clamp(0.0, 1.0);
-            inv.push(-r + (j as f32 + t as f32) * h);
-        }
-        Filter::Gaussian {
-            stddev,
-            inv_cdf: inv,
-        }
-    }
-
     /// Filter radius in pixels.
     pub fn radius(&self) -> f32 {
         match self {
@@ -115,7 +152,7 @@ impl Filter {
 /// Converts a radiance sample at the path's wavelengths into CIE XYZ (Monte Carlo estimate of
 /// ∫ L(λ) x̄(λ) dλ / ∫ ȳ, averaging the hero and secondary wavelengths).
 #[inline]
-pub fn spectrum_to_xyz(l: &SampledSpectrum, wl: &SampledWavelengths) -> [f32; 3] {
+pub(crate) fn spectrum_to_xyz(l: &SampledSpectrum, wl: &SampledWavelengths) -> [f32; 3] {
     spectrum_to_xyz_lanes(&l.0, &wl.lambda, &wl.pdf)
 }
 

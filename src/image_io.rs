@@ -1,5 +1,5 @@
-//! Image reading and writing: OpenEXR (via the `exr` crate), Radiance HDR (RGBE, own reader),
-//! PNG (via the `png` crate) and, for reading only, JPEG (via `zune-jpeg`).
+//! Image reading and writing: OpenEXR (via the `exr` crate), Radiance HDR (RGBE, own reader:
+//! `hdr.rs` says why), PNG (via the `png` crate) and, for reading only, JPEG (via `zune-jpeg`).
 //!
 //! Every image is held as linear RGB in `f32`, row-major with the top row first. Readers pick the
 //! format from the file's magic bytes (`v/1\x01` OpenEXR, `#?` Radiance, `\x89PNG` PNG,
@@ -31,7 +31,7 @@ use self::png_io::read_png_bytes;
 pub use self::png_io::write_png;
 
 /// Largest accepted image, in pixels (2^28, i.e. 16384 × 16384).
-pub const MAX_PIXELS: usize = 1 << 28;
+pub(crate) const MAX_PIXELS: usize = 1 << 28;
 
 /// A linear RGB image, row-major, top row first.
 #[derive(Clone, Debug, PartialEq)]
@@ -272,13 +272,13 @@ fn read_exr_bytes(path: &Path, bytes: Vec<u8>) -> Result<RgbImage, ImageError> {
 
 /// sRGB transfer function: encoded value in [0, 1] → linear.
 #[inline]
-pub fn srgb_to_linear(v: f32) -> f32 {
+pub(crate) fn srgb_to_linear(v: f32) -> f32 {
     crate::spectrum::cie::srgb_decode(v)
 }
 
 /// Inverse sRGB transfer function: linear → encoded, clamped to [0, 1] (NaN → 0).
 #[inline]
-pub fn linear_to_srgb(v: f32) -> f32 {
+pub(crate) fn linear_to_srgb(v: f32) -> f32 {
     crate::spectrum::cie::srgb_encode(v).min(1.0)
 }
 
@@ -463,9 +463,8 @@ pub fn write_exr_channels(
     finish_exr(path, encode_exr!(Image::from_layer(layer)))
 }
 
-/// The names of the channels in an OpenEXR file's first layer, sorted as stored.
-pub fn read_exr_channel_names(path: impl AsRef<Path>) -> Result<Vec<String>, ImageError> {
-    let path = path.as_ref();
+/// The headers of an OpenEXR file, without its pixels.
+fn read_exr_meta(path: &Path) -> Result<exr::meta::MetaData, ImageError> {
     let bytes = read_bytes(path)?;
     if !bytes.starts_with(&EXR_MAGIC) {
         return Err(ImageError::NotTheFormat {
@@ -473,8 +472,13 @@ pub fn read_exr_channel_names(path: impl AsRef<Path>) -> Result<Vec<String>, Ima
             expected: "OpenEXR",
         });
     }
-    let meta = exr::meta::MetaData::read_from_buffered(Cursor::new(&bytes), false)
-        .map_err(|e| exr_error(path, e))?;
+    exr::meta::MetaData::read_from_buffered(Cursor::new(&bytes), false)
+        .map_err(|e| exr_error(path, e))
+}
+
+/// The names of the channels in an OpenEXR file's first layer, sorted as stored.
+pub fn read_exr_channel_names(path: impl AsRef<Path>) -> Result<Vec<String>, ImageError> {
+    let meta = read_exr_meta(path.as_ref())?;
     Ok(meta
         .headers
         .first()
@@ -485,16 +489,7 @@ pub fn read_exr_channel_names(path: impl AsRef<Path>) -> Result<Vec<String>, Ima
 /// The string attributes in an OpenEXR file's first header, sorted by name.
 pub fn read_exr_metadata(path: impl AsRef<Path>) -> Result<Vec<(String, String)>, ImageError> {
     use exr::meta::attribute::AttributeValue;
-    let path = path.as_ref();
-    let bytes = read_bytes(path)?;
-    if !bytes.starts_with(&EXR_MAGIC) {
-        return Err(ImageError::NotTheFormat {
-            path: path.to_path_buf(),
-            expected: "OpenEXR",
-        });
-    }
-    let meta = exr::meta::MetaData::read_from_buffered(Cursor::new(&bytes), false)
-        .map_err(|e| exr_error(path, e))?;
+    let meta = read_exr_meta(path.as_ref())?;
     let mut out = Vec::new();
     if let Some(h) = meta.headers.first() {
         let others = h

@@ -18,7 +18,7 @@
 //! | serialized mesh     | file size × 12 (zlib packs the ~44 bytes of a vertex and a triangle into ~15; the mesh needs ~150) |
 //! | `instance`          | the meshes of the group it copies                             |
 
-use crate::scene::build::MAX_RESOLUTION;
+use crate::film::MAX_RESOLUTION;
 use crate::scene::mitsuba::{Location, Node, SceneError, Tag};
 use std::path::Path;
 
@@ -48,7 +48,7 @@ impl MemoryEstimate {
 }
 
 /// Formats bytes in binary units.
-pub fn human(bytes: u64) -> String {
+pub(crate) fn human(bytes: u64) -> String {
     let units = ["bytes", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB"];
     let mut v = bytes as f64;
     let mut u = 0;
@@ -64,7 +64,7 @@ pub fn human(bytes: u64) -> String {
 }
 
 /// Parses `123`, `4K`, `16G`, … (powers of 1024).
-pub fn parse_size(s: &str) -> Option<u64> {
+pub(crate) fn parse_size(s: &str) -> Option<u64> {
     let s = s.trim();
     let (num, mult) = match s.chars().last()?.to_ascii_uppercase() {
         'K' => (&s[..s.len() - 1], 1u64 << 10),

@@ -216,10 +216,10 @@ fn sensors_load_with_mitsubas_parameters_and_refuse_bad_ones() {
             .unwrap();
     assert!(w.is_empty(), "{w:?}");
     for (sensor, says) in [
-        (r#"<sensor type="thinlens"/>"#, "needs an 'aperture_radius'"),
+        (r#"<sensor type="thinlens"/>"#, "needs 'aperture_radius'"),
         (
             r#"<sensor type="thinlens"><float name="aperture_radius" value="-1"/></sensor>"#,
-            "aperture_radius must be zero or positive",
+            "'aperture_radius' of sensor 'thinlens': must be non-negative, got -1",
         ),
         (
             r#"<sensor type="thinlens"><float name="aperture_radius" value="1"/>

@@ -200,28 +200,37 @@ fn unused_after_load(info: &Info, value: &str) -> Result<Vec<String>, String> {
         // Shape index 0 stands for the shape an `area` emitter would be nested in.
         Tag::Emitter => registry::emitter(node, Some(0), &mut w).map(|_| ()),
         Tag::Shape => registry::shape(node, ophis::math::Transform::IDENTITY, &mut w).map(|_| ()),
+        Tag::Sensor => registry::sensor(node, None, &mut w).map(|_| ()),
+        Tag::Film => registry::film(node, &mut w).map(|_| ()),
+        Tag::Rfilter => registry::rfilter(node, &mut w).map(|_| ()),
+        Tag::Sampler => registry::sampler(node, &mut w).map(|_| ()),
+        Tag::Integrator => registry::integrator(node, &mut w).map(|_| ()),
         _ => return Err("not checked here".into()),
     };
     r.map_err(|e| e.to_string())?;
     Ok(node.props.unqueried().into_iter().map(|(n, _)| n).collect())
 }
 
+/// Sample values of the parameters a plugin requires (so that it loads), leaving out `but`.
+fn required_values(info: &Info, but: &Param) -> String {
+    info.all_params()
+        .filter(|p| p.default == DefaultValue::Required && *p != but)
+        .filter_map(|p| sample_value(p, p.name))
+        .collect()
+}
+
 #[test]
 fn every_declared_parameter_is_read_under_every_spelling() {
     let mut checked = 0;
     let mut failures = Vec::new();
+    let mut kinds = std::collections::BTreeSet::new();
     for info in registry::all() {
-        if !matches!(
-            info.tag,
-            Tag::Bsdf | Tag::Texture | Tag::Emitter | Tag::Shape
-        ) {
-            continue;
-        }
-        // Plugins that need nested objects or files are loaded by their own tests.
-        if unused_after_load(info, "").is_err() {
-            continue;
-        }
         for p in info.all_params() {
+            let required = required_values(info, p);
+            // Plugins that need nested objects or files are loaded by their own tests.
+            if unused_after_load(info, &required).is_err() {
+                continue;
+            }
             for name in p.names() {
                 let name = match name.strip_suffix("_i") {
                     Some(prefix) => format!("{prefix}_0"),
@@ -230,8 +239,11 @@ fn every_declared_parameter_is_read_under_every_spelling() {
                 let Some(v) = sample_value(p, &name) else {
                     continue;
                 };
-                match unused_after_load(info, &v) {
-                    Ok(unused) if unused.is_empty() => checked += 1,
+                match unused_after_load(info, &format!("{required}{v}")) {
+                    Ok(unused) if unused.is_empty() => {
+                        checked += 1;
+                        kinds.insert(info.tag.as_str());
+                    }
                     Ok(unused) => {
                         failures.push(format!("{} '{name}': never read {unused:?}", info.name))
                     }
@@ -243,6 +255,9 @@ fn every_declared_parameter_is_read_under_every_spelling() {
     }
     assert!(failures.is_empty(), "{failures:#?}");
     assert!(checked > 100, "only {checked} spellings checked");
+    // Every kind of plugin with value parameters is covered.
+    let all = "bsdf emitter film integrator rfilter sampler sensor shape texture";
+    assert_eq!(kinds.into_iter().collect::<Vec<_>>().join(" "), all);
 }
 
 #[test]
@@ -310,4 +325,113 @@ fn unused_parameters_name_the_nearest_declared_ones() {
             && w.contains("did you mean 'alpha'")),
         "{w:#?}"
     );
+}
+
+/// A scene with `sensor` (one line) and `integrator` (one line), from line 3 on.
+fn sensor_scene(sensor: &str, integrator: &str) -> String {
+    format!("<scene version=\"3.0.0\">\n\n{sensor}\n{integrator}\n</scene>")
+}
+
+#[test]
+fn misspelt_sensors_films_samplers_filters_and_integrators_are_errors() {
+    let cases = [
+        (
+            r#"<sensor type="perspectiv"/>"#,
+            "",
+            "t.xml:3:",
+            "'perspective'",
+        ),
+        (
+            r#"<sensor type="perspective"><film type="hdrflm"/></sensor>"#,
+            "",
+            "t.xml:3:",
+            "'hdrfilm'",
+        ),
+        (
+            r#"<sensor type="perspective"><film type="hdrfilm"><rfilter type="gausian"/></film></sensor>"#,
+            "",
+            "t.xml:3:",
+            "'gaussian'",
+        ),
+        (
+            r#"<sensor type="perspective"><sampler type="indepedent"/></sensor>"#,
+            "",
+            "t.xml:3:",
+            "'independent'",
+        ),
+        ("", r#"<integrator type="paht"/>"#, "t.xml:4:", "'path'"),
+        (
+            "",
+            r#"<integrator type="aov"><string name="aovs" value="d:depth"/><integrator type="dirct"/></integrator>"#,
+            "t.xml:4:",
+            "'direct'",
+        ),
+    ];
+    for (sensor, integrator, at, want) in cases {
+        let xml = sensor_scene(sensor, integrator);
+        let e = ophis::scene::build::load_scene_str(&xml, Path::new("t.xml"), &Default::default())
+            .map(|_| ())
+            .expect_err("an error")
+            .to_string();
+        assert!(
+            e.starts_with(at) && e.contains(&format!("did you mean {want}")),
+            "{e}"
+        );
+    }
+}
+
+#[test]
+fn mitsuba_sensors_films_filters_and_integrators_ophis_lacks_load_as_the_nearest_it_has() {
+    let xml = sensor_scene(
+        r#"<sensor type="radiancemeter"><float name="fov" value="30"/><film type="specfilm"><integer name="width" value="20"/><rfilter type="lanczos"/></film></sensor>"#,
+        r#"<integrator type="volpath"><integer name="max_depth" value="3"/></integrator>"#,
+    );
+    let (scene, w) =
+        ophis::scene::build::load_scene_str(&xml, Path::new("t.xml"), &Default::default()).unwrap();
+    // Read as `perspective`, `hdrfilm`, `gaussian` and `path`, with their parameters.
+    assert!(matches!(
+        scene.camera,
+        ophis::camera::Camera::Perspective(_)
+    ));
+    assert_eq!(scene.width, 20);
+    assert!(matches!(scene.filter, ophis::film::Filter::Gaussian { .. }));
+    assert_eq!(scene.integrator.max_depth, Some(3));
+    for (at, name, instead) in [
+        ("t.xml:3:", "sensor 'radiancemeter'", "'perspective'"),
+        ("t.xml:3:", "film 'specfilm'", "'hdrfilm'"),
+        ("t.xml:3:", "rfilter 'lanczos'", "'gaussian'"),
+        ("t.xml:4:", "integrator 'volpath'", "'path'"),
+    ] {
+        assert!(
+            w.iter().any(|w| w.to_string().starts_with(at)
+                && w.message.contains(name)
+                && w.message.contains(instead)),
+            "{name}: {w:#?}"
+        );
+    }
+    // Nothing was left unread.
+    assert!(
+        !w.iter().any(|w| w.message.contains("never used")),
+        "{w:#?}"
+    );
+}
+
+#[test]
+fn unused_sensor_and_integrator_parameters_name_the_nearest_declared_ones() {
+    let xml = sensor_scene(
+        r#"<sensor type="thinlens"><float name="aperture_radius" value="0.1"/><float name="focus_distnace" value="2"/></sensor>"#,
+        r#"<integrator type="path"><integer name="max_dpeth" value="3"/></integrator>"#,
+    );
+    let (_, w) =
+        ophis::scene::build::load_scene_str(&xml, Path::new("t.xml"), &Default::default()).unwrap();
+    let w: Vec<String> = w.iter().map(|w| w.to_string()).collect();
+    for (at, said) in [
+        ("t.xml:3:", "did you mean 'focus_distance'"),
+        ("t.xml:4:", "did you mean 'max_depth'"),
+    ] {
+        assert!(
+            w.iter().any(|w| w.starts_with(at) && w.contains(said)),
+            "{said}: {w:#?}"
+        );
+    }
 }

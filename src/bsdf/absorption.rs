@@ -28,33 +28,22 @@
 
 use super::{BsdfSample, BxdfFlags, Material};
 use crate::math::{warp, Vec2, Vec3, INV_PI};
-use crate::plugin::{declare, Args, Check, DefaultValue, Param, SceneError, SpectrumKind, Ty};
+use crate::plugin::{declare, Args, Check, Param, SceneError};
 use crate::spectrum::SampledSpectrum;
 
 /// The parameters.
 const PARAMS: &[Param] = &[
-    Param::new(
-        "reflectance",
-        Ty::SpectrumTexture(SpectrumKind::Albedo),
-        DefaultValue::Float(0.5),
-    )
-    .doc("albedo of the base"),
-    Param::new(
-        "sigma_a",
-        Ty::SpectrumTexture(SpectrumKind::Unbounded),
-        DefaultValue::Float(0.0),
-    )
-    .v06("sigmaA")
-    .unit("1/(unit of `thickness`)")
-    .doc("absorption coefficient"),
+    Param::reflectance("reflectance", 0.5).doc("albedo of the base"),
+    Param::coefficient("sigma_a", 0.0)
+        .v06("sigmaA")
+        .unit("1/(unit of `thickness`)")
+        .doc("absorption coefficient"),
     Param::float("thickness", 1.0)
         .check(Check::NonNegative)
         .doc("thickness of the layer"),
 ];
 
-declare!(
-    /// The `absorption` plugin.
-    pub(crate) PLUGIN: Material = Bsdf "absorption" ["Absorption"]
+declare!(PLUGIN: Material = Bsdf "absorption" ["Absorption"]
     "the thesis's pigment layer: Beer–Lambert absorption over a Lambertian base"
     [PARAMS] load);
 
@@ -81,12 +70,9 @@ impl AbsorptionBxdf {
             tau: sigma_a * thickness,
         }
     }
-    pub fn flags(&self) -> BxdfFlags {
-        if self.rho.is_black() {
-            BxdfFlags::NONE
-        } else {
-            BxdfFlags::DIFFUSE_REFLECTION
-        }
+    /// A Lambertian base's: the slab only dims it.
+    pub(crate) fn flags(&self) -> BxdfFlags {
+        super::diffuse::DiffuseBxdf::new(self.rho).flags()
     }
     pub fn f(&self, wo: Vec3, wi: Vec3) -> SampledSpectrum {
         if wo.z <= 0.0 || wi.z <= 0.0 {
@@ -95,7 +81,7 @@ impl AbsorptionBxdf {
         let path = 1.0 / wo.z + 1.0 / wi.z;
         self.rho * INV_PI * (-self.tau * path).exp()
     }
-    pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+    pub(crate) fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
         if wo.z <= 0.0 || wi.z <= 0.0 {
             return 0.0;
         }

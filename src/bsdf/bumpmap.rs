@@ -42,9 +42,7 @@ use crate::plugin::{declare, Args, DefaultValue, Param, SceneError, Tag, Ty};
 use crate::shape::SurfaceInteraction;
 use crate::texture::{FloatTexture, NormalSource, Scales, TexCoord, Texture, Want};
 
-declare!(
-    /// The `bumpmap` plugin.
-    pub(crate) PLUGIN: Material = Bsdf "bumpmap" []
+declare!(PLUGIN: Material = Bsdf "bumpmap" []
     "bump mapping: a nested BSDF with its normal displaced by a height texture"
     [&[
             Param::new("(nested texture)", Ty::Texture, DefaultValue::Required)
@@ -134,7 +132,7 @@ fn project(n: Vec3, v: Vec3) -> Vec3 {
 /// The bumped normal and ∂p'/∂u for shading normal `n`, tangents `dpdu`/`dpdv`, height
 /// gradient `grad` (per unit u, v) and displacement `scale`. Returns `n` unchanged where the
 /// tangents are degenerate.
-pub fn bump_normal(n: Vec3, dpdu: Vec3, dpdv: Vec3, grad: Vec2, scale: f32) -> (Vec3, Vec3) {
+pub(crate) fn bump_normal(n: Vec3, dpdu: Vec3, dpdv: Vec3, grad: Vec2, scale: f32) -> (Vec3, Vec3) {
     let (tu, tv) = (project(n, dpdu), project(n, dpdv));
     let pu = tu + n * (scale * grad.x);
     let pv = tv + n * (scale * grad.y);
@@ -161,7 +159,7 @@ pub fn tilt(n: Vec3, s: Vec3, angle: f32, phi: f32) -> Vec3 {
 
 /// Bends `n` towards `wo` so that it lies on the same side of `wo` as the geometric normal
 /// `ng` (with a margin); unchanged when it already does.
-pub fn keep_visible(n: Vec3, ng: Vec3, wo: Vec3) -> Vec3 {
+pub(crate) fn keep_visible(n: Vec3, ng: Vec3, wo: Vec3) -> Vec3 {
     let side = if ng.dot(wo) >= 0.0 { 1.0 } else { -1.0 };
     let c = n.dot(wo) * side;
     if c >= MIN_VISIBLE_COS {
@@ -178,7 +176,7 @@ pub fn keep_visible(n: Vec3, ng: Vec3, wo: Vec3) -> Vec3 {
 
 /// Width a pixel covers on the surface in UV units, per axis, for a world-space footprint
 /// `width` seen at cosine `cos` to the normal.
-pub fn uv_footprint(si: &SurfaceInteraction, width: f32, cos: f32) -> Vec2 {
+pub(crate) fn uv_footprint(si: &SurfaceInteraction, width: f32, cos: f32) -> Vec2 {
     let w = width / cos.abs().max(0.05);
     let lu = si.dpdu.length();
     let lv = si.dpdv.length();
@@ -187,7 +185,12 @@ pub fn uv_footprint(si: &SurfaceInteraction, width: f32, cos: f32) -> Vec2 {
 }
 
 /// The normal of a `scales` relief in tangent space: slope in cells, times `strength`.
-pub fn scales_tangent_normal(cells: &Scales, uv: Vec2, footprint: Vec2, strength: f32) -> Vec3 {
+pub(crate) fn scales_tangent_normal(
+    cells: &Scales,
+    uv: Vec2,
+    footprint: Vec2,
+    strength: f32,
+) -> Vec3 {
     let g = cells.gradient(uv, cells.cells_across(footprint));
     Vec3::new(
         -strength * g.x / cells.scale_u,
@@ -200,7 +203,7 @@ pub fn scales_tangent_normal(cells: &Scales, uv: Vec2, footprint: Vec2, strength
 impl Material {
     /// The shading frame at a hit seen from `wo`, with a world-space pixel footprint `width`:
     /// the shape's own (shading normal, ∂p/∂u) unless a `bumpmap`/`normalmap` changes it.
-    pub fn shading_frame(&self, si: &SurfaceInteraction, wo: Vec3, width: f32) -> Frame {
+    pub(crate) fn shading_frame(&self, si: &SurfaceInteraction, wo: Vec3, width: f32) -> Frame {
         match self.perturbed_normal(si, wo, width, si.ng.dot(wo) >= 0.0) {
             Some((n, s)) => Frame::from_normal_tangent(keep_visible(n, si.ng, wo), s),
             None => Frame::from_normal_tangent(si.ns, si.dpdu),

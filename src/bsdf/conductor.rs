@@ -19,9 +19,7 @@ use super::params::{conductor_ior, surface, METAL, REFLECTION_FACTOR};
 use super::{Interface, Material};
 use crate::plugin::{declare, Args, SceneError};
 
-declare!(
-    /// The `conductor` plugin.
-    pub(crate) PLUGIN: Material = Bsdf "conductor" []
+declare!(PLUGIN: Material = Bsdf "conductor" []
     "polished metal or perfect mirror, measured complex indices"
     [METAL, REFLECTION_FACTOR] load);
 

@@ -23,9 +23,7 @@ use super::params::{relative_ior, surface, DIELECTRIC_IORS, FACTORS};
 use super::{Interface, Material};
 use crate::plugin::{declare, Args, SceneError};
 
-declare!(
-    /// The `dielectric` plugin.
-    pub(crate) PLUGIN: Material = Bsdf "dielectric" []
+declare!(PLUGIN: Material = Bsdf "dielectric" []
     "smooth glass or water: Fresnel reflection and refraction"
     [DIELECTRIC_IORS, FACTORS] load);
 

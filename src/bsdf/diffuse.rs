@@ -12,18 +12,12 @@
 
 use super::{BsdfSample, BxdfFlags, Material};
 use crate::math::{warp, Vec2, Vec3, INV_PI};
-use crate::plugin::{declare, Args, DefaultValue, Param, SceneError, SpectrumKind, Ty};
+use crate::plugin::{declare, Args, Param, SceneError};
 use crate::spectrum::SampledSpectrum;
 
-declare!(
-    /// The `diffuse` plugin.
-    pub(crate) PLUGIN: Material = Bsdf "diffuse" []
+declare!(PLUGIN: Material = Bsdf "diffuse" []
     "Lambertian reflection"
-    [&[Param::new(
-            "reflectance",
-            Ty::SpectrumTexture(SpectrumKind::Albedo),
-            DefaultValue::Float(0.5),
-        )
+    [&[Param::reflectance("reflectance", 0.5)
         .doc("albedo")]] load);
 
 fn load(a: &mut Args, _: ()) -> Result<Material, SceneError> {

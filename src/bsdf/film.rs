@@ -10,13 +10,13 @@ use crate::spectrum::{ior as named_ior, SampledWavelengths, Spectrum};
 use crate::texture::{FloatTexture, TexCoord};
 
 /// Default film index (OpenPBR's `thin_film_ior`).
-pub const DEFAULT_FILM_IOR: f32 = 1.4;
+pub(crate) const DEFAULT_FILM_IOR: f32 = 1.4;
 /// Default film thickness in nm (OpenPBR's `thin_film_thickness`, 0.5 µm).
-pub const DEFAULT_FILM_THICKNESS: f32 = 500.0;
+pub(crate) const DEFAULT_FILM_THICKNESS: f32 = 500.0;
 /// Film thickness of the thesis's Mitsuba 0.6 plugins when none is given (nm).
-pub const THESIS_PLUGIN_FILM_THICKNESS: f32 = 400.0;
+pub(crate) const THESIS_PLUGIN_FILM_THICKNESS: f32 = 400.0;
 /// Largest film thickness accepted (nm): 100 µm is far beyond a coherent film already.
-pub const MAX_FILM_THICKNESS: f32 = 1e5;
+pub(crate) const MAX_FILM_THICKNESS: f32 = 1e5;
 
 /// A film's index of refraction.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -76,7 +76,7 @@ impl FilmSpec {
     }
 
     /// The film's Fresnel term at a point for the path's wavelengths.
-    pub fn fresnel(&self, tc: &TexCoord, wl: &SampledWavelengths) -> FilmFresnel {
+    pub(crate) fn fresnel(&self, tc: &TexCoord, wl: &SampledWavelengths) -> FilmFresnel {
         let d = self.thickness.eval(tc);
         FilmFresnel {
             ext: self.ext_ior,
@@ -88,7 +88,7 @@ impl FilmSpec {
     }
 
     /// Whether light can pass through (a dielectric base).
-    pub fn transmits(&self) -> bool {
+    pub(crate) fn transmits(&self) -> bool {
         matches!(self.base, FilmBase::Dielectric { .. })
     }
 }
@@ -113,21 +113,16 @@ pub(crate) const MODE: Param = Param::string("mode", "spectral")
     .check(Check::OneOf(&["spectral", "thesis"]))
     .doc("`thesis`: the thesis's 650/510/475 nm point samples and phase term");
 /// The thesis plugins' film index: `mediumIOR`, default BK7.
-pub(crate) const THESIS_MEDIUM_IOR: Param =
-    Param::new("medium_ior", Ty::Ior, DefaultValue::Str("bk7"))
-        .also(&["film_ior"])
-        .v06("mediumIOR")
-        .doc("index of the film; `keratin` = 1.532 + 5890/λ² (λ in nm)");
+pub(crate) const THESIS_MEDIUM_IOR: Param = FILM_IOR
+    .named("medium_ior")
+    .also(&["film_ior"])
+    .v06("mediumIOR")
+    .default(DefaultValue::Str("bk7"));
 /// The thesis plugins' `thickness`, default 400 nm.
-pub(crate) const THESIS_THICKNESS: Param = Param::new(
-    "thickness",
-    Ty::FloatTexture,
-    DefaultValue::Float(THESIS_PLUGIN_FILM_THICKNESS),
-)
-.also(&["film_thickness"])
-.check(Check::Range(0.0, MAX_FILM_THICKNESS as f64))
-.unit("nm")
-.doc("thickness of the film");
+pub(crate) const THESIS_THICKNESS: Param = FILM_THICKNESS
+    .named("thickness")
+    .also(&["film_thickness"])
+    .default(DefaultValue::Float(THESIS_PLUGIN_FILM_THICKNESS));
 
 /// Reads a film from a film plugin's node: its index, thickness and mode over `base`.
 pub(crate) fn load_film(a: &mut Args, base: FilmBase) -> Result<FilmSpec, SceneError> {

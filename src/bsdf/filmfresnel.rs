@@ -40,16 +40,7 @@ pub enum FilmMode {
     Thesis,
 }
 
-impl FilmMode {
-    /// `"spectral"` or `"thesis"`.
-    pub fn from_name(s: &str) -> Option<FilmMode> {
-        match s {
-            "spectral" => Some(FilmMode::Spectral),
-            "thesis" => Some(FilmMode::Thesis),
-            _ => None,
-        }
-    }
-}
+impl FilmMode {}
 
 /// Optical constants of the stack at `K` wavelengths.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -152,12 +143,12 @@ pub fn thesis_reflectance(cos0: f64, n0: f64, n1: f64, d_nm: f64, n2: f64, lambd
 
 impl FilmFresnel {
     /// Whether the base absorbs (a metal): then only reflection exists.
-    pub fn is_conductor(&self) -> bool {
+    pub(crate) fn is_conductor(&self) -> bool {
         self.spectral.base_k.iter().any(|&k| k > 0.0)
     }
 
     /// The thesis's (r, g, b) reflectance at `cos0` (signed as in [`FilmFresnel::eval`]).
-    pub fn thesis_rgb(&self, cos0: f32) -> [f32; 3] {
+    pub(crate) fn thesis_rgb(&self, cos0: f32) -> [f32; 3] {
         let t = &self.thesis;
         std::array::from_fn(|i| {
             if t.base_k[i] > 0.0 {

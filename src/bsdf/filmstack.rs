@@ -116,7 +116,7 @@ pub struct StackSpec {
 
 impl StackSpec {
     /// The stack's Fresnel term at a point for the path's wavelengths.
-    pub fn fresnel(&self, tc: &TexCoord, wl: &SampledWavelengths) -> StackFresnel {
+    pub(crate) fn fresnel(&self, tc: &TexCoord, wl: &SampledWavelengths) -> StackFresnel {
         let scale = self.thickness_scale.eval(tc);
         let eval = match &self.layers {
             StackLayers::Fixed(s) => s.prepare(wl.lambda, scale),
@@ -153,7 +153,7 @@ impl StackSpec {
     }
 
     /// Whether light can pass through (a dielectric base).
-    pub fn transmits(&self) -> bool {
+    pub(crate) fn transmits(&self) -> bool {
         self.refract.is_some()
     }
 }

@@ -4,7 +4,8 @@
 //! loader's syntax and errors.
 
 use super::testing::{
-    albedo, chi2_test, direction, hemispherical_integral, reciprocity_error, Chi2Config,
+    albedo, assert_keeps_all_energy, assert_reciprocal, chi2_test, direction,
+    hemispherical_integral, Chi2Config,
 };
 use super::{Bxdf, BxdfFlags, Material, TransportMode};
 use crate::math::{Vec2, Vec3};
@@ -127,24 +128,8 @@ fn lossless_stack_on_glass_is_a_white_furnace() {
         r#"<bsdf type="filmstack"><string name="stack" value="(2.3:60,1.38:100)x4,keratin:200"/>
            <float name="int_ior" value="1.5"/></bsdf>"#,
     );
-    for theta in [0.0f32, 45.0, 80.0, -20.0, -60.0] {
-        let a = albedo(
-            &b,
-            direction(theta, 0.3),
-            TransportMode::Importance,
-            4000,
-            3,
-            true,
-        );
-        for e in &a {
-            // R + T = 1 for a lossless stack: every importance weight is the lobe weight and the
-            // weights average to 1 (4σ).
-            assert!(
-                (e.mean - 1.0).abs() <= 4.0 * e.std_err + 1e-5,
-                "θ {theta}: {e:?}"
-            );
-        }
-    }
+    // R + T = 1 for a lossless stack: every importance weight is the lobe weight.
+    assert_keeps_all_energy(&b, &[0.0, 45.0, 80.0, -20.0, -60.0], 0.3, 4000, "filmstack");
 }
 
 fn rough(base: &str) -> Bxdf {
@@ -218,20 +203,7 @@ fn rough_stack_is_consistent_reciprocal_and_bounded() {
     // sees its index per wavelength, which breaks exact reciprocity of transmission by ~1 %:
     // the documented limit.
     let b = rough("<float name=\"int_ior\" value=\"1.55\"/>");
-    let mut rng = crate::math::Pcg32::new(5, 5);
-    let mut checked = 0;
-    for _ in 0..2000 {
-        let a = crate::math::warp::square_to_uniform_sphere(rng.next_vec2());
-        let c = crate::math::warp::square_to_uniform_sphere(rng.next_vec2());
-        // As for one film: values below 1e-3 are dominated by the f32 rounding of the angles.
-        if b.f(a, c, TransportMode::Radiance).max_value() < 1e-3 {
-            continue;
-        }
-        checked += 1;
-        let e = reciprocity_error(&b, a, c);
-        assert!(e < 2e-3, "{a:?} {c:?}: {e}");
-    }
-    assert!(checked > 100, "{checked}");
+    assert_reciprocal(&b, 2000, 5, 100);
 }
 
 #[test]

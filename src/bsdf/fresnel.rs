@@ -91,7 +91,7 @@ pub struct ThinSheetFresnel {
 
 impl ThinSheetFresnel {
     /// Reflectance of the sheet including interreflections.
-    pub fn sheet_reflectance(&self, cos: f32) -> f32 {
+    pub(crate) fn sheet_reflectance(&self, cos: f32) -> f32 {
         let r = fresnel_dielectric(cos.abs(), self.eta);
         if r < 1.0 {
             let t = 1.0 - r;
@@ -113,10 +113,12 @@ impl Fresnel for ThinSheetFresnel {
     }
 }
 
+// The scalar reference that the tests check the lanes version against.
+#[cfg(test)]
 /// s- and p-polarised reflectances (|r_s|², |r_p|²) of a dielectric interface, and the signed
 /// cosine of the refracted direction (opposite sign to `cos_theta_i`, 0 under total internal
 /// reflection, where both reflectances are 1).
-pub fn fresnel_dielectric_polarized(cos_theta_i: f32, eta: f32) -> (f32, f32, f32) {
+pub(crate) fn fresnel_dielectric_polarized(cos_theta_i: f32, eta: f32) -> (f32, f32, f32) {
     let (cos_i, eta) = if cos_theta_i < 0.0 {
         (-cos_theta_i, 1.0 / eta)
     } else {
@@ -154,17 +156,18 @@ pub fn fresnel_dielectric_lanes<F: Float>(cos_theta_i: F, eta: F) -> F {
     F::select(sin2_t.ge(one), one, r)
 }
 
+#[cfg(test)]
 /// Unpolarised reflectance and the signed cosine of the refracted direction (see
 /// [`fresnel_dielectric_polarized`]).
 #[inline]
-pub fn fresnel_dielectric_cos_t(cos_theta_i: f32, eta: f32) -> (f32, f32) {
+pub(crate) fn fresnel_dielectric_cos_t(cos_theta_i: f32, eta: f32) -> (f32, f32) {
     let (rs, rp, cos_t) = fresnel_dielectric_polarized(cos_theta_i, eta);
     (0.5 * (rs + rp), cos_t)
 }
 
 /// Unpolarised reflectance of a conductor with complex relative index `eta + i k`, per
 /// wavelength; `cos_theta_i` is taken in absolute value (metals are opaque).
-pub fn fresnel_conductor(
+pub(crate) fn fresnel_conductor(
     cos_theta_i: f32,
     eta: SampledSpectrum,
     k: SampledSpectrum,
@@ -285,7 +288,7 @@ impl Fresnel for ConductorFresnel {
 /// Cosine-weighted hemispherical average 2∫₀¹ F(μ, η) μ dμ of the dielectric reflectance for
 /// light arriving from the side where the relative index is `eta` (so `1/eta` gives the
 /// internal average seen from inside a coating of index `eta`).
-pub fn fresnel_diffuse_reflectance(eta: f32) -> f32 {
+pub(crate) fn fresnel_diffuse_reflectance(eta: f32) -> f32 {
     if eta == 1.0 {
         return 0.0;
     }

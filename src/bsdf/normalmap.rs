@@ -18,9 +18,7 @@ use super::bumpmap::{nested_bsdf, normal_source};
 use super::Material;
 use crate::plugin::{declare, Args, DefaultValue, Param, SceneError, Ty};
 
-declare!(
-    /// The `normalmap` plugin.
-    pub(crate) PLUGIN: Material = Bsdf "normalmap" []
+declare!(PLUGIN: Material = Bsdf "normalmap" []
     "a nested BSDF shaded with tangent-space normals from a texture"
     [&[
             Param::new("(nested texture)", Ty::Texture, DefaultValue::Required)

@@ -12,9 +12,7 @@
 use super::Material;
 use crate::plugin::{declare, Args, SceneError};
 
-declare!(
-    /// The `null` plugin.
-    pub(crate) PLUGIN: Material = Bsdf "null" []
+declare!(PLUGIN: Material = Bsdf "null" []
     "invisible boundary: paths pass through unchanged"
     [] load);
 

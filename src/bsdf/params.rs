@@ -22,19 +22,12 @@ pub(crate) const EXT_IOR_METAL: Param = Param::new("ext_ior", Ty::Ior, DefaultVa
     .v06("extEta")
     .doc("index of the medium outside the metal");
 /// Non-physical factor on reflection.
-pub(crate) const SPECULAR_REFLECTANCE: Param = Param::new(
-    "specular_reflectance",
-    Ty::SpectrumTexture(SpectrumKind::Albedo),
-    DefaultValue::Float(1.0),
-)
-.doc("factor on the reflected light (not physical)");
+pub(crate) const SPECULAR_REFLECTANCE: Param = Param::reflectance("specular_reflectance", 1.0)
+    .doc("factor on the reflected light (not physical)");
 /// Non-physical factor on transmission.
-pub(crate) const SPECULAR_TRANSMITTANCE: Param = Param::new(
-    "specular_transmittance",
-    Ty::SpectrumTexture(SpectrumKind::Albedo),
-    DefaultValue::Float(1.0),
-)
-.doc("factor on the transmitted light (not physical)");
+pub(crate) const SPECULAR_TRANSMITTANCE: Param = SPECULAR_REFLECTANCE
+    .named("specular_transmittance")
+    .doc("factor on the transmitted light (not physical)");
 /// Microfacet distribution.
 pub(crate) const DISTRIBUTION: Param = Param::string("distribution", "beckmann")
     .check(Check::OneOf(&["beckmann", "ggx"]))
@@ -55,15 +48,10 @@ pub(crate) const ALPHA_U: Param = Param::new(
 .unit("RMS slope")
 .doc("anisotropic α along ∂p/∂u");
 /// Roughness along the bitangent.
-pub(crate) const ALPHA_V: Param = Param::new(
-    "alpha_v",
-    Ty::FloatTexture,
-    DefaultValue::Derived("`alpha`"),
-)
-.check(Check::Range(0.0, 10.0))
-.v06("alphaV")
-.unit("RMS slope")
-.doc("anisotropic α along ∂p/∂v");
+pub(crate) const ALPHA_V: Param = ALPHA_U
+    .named("alpha_v")
+    .v06("alphaV")
+    .doc("anisotropic α along ∂p/∂v");
 /// Visible-normal sampling is always on; accepted for Mitsuba's scenes.
 pub(crate) const SAMPLE_VISIBLE: Param =
     Param::bool("sample_visible", true).doc("accepted; visible normals are always sampled");
@@ -78,12 +66,10 @@ pub(crate) const ETA: Param = Param::new(
 )
 .doc("real part of the metal's index (with `k`, instead of `material`)");
 /// Imaginary part of a metal's index.
-pub(crate) const K: Param = Param::new(
-    "k",
-    Ty::Spectrum(SpectrumKind::Unbounded),
-    DefaultValue::Float(1.0),
-)
-.doc("imaginary part (extinction) of the metal's index");
+pub(crate) const K: Param = ETA
+    .named("k")
+    .default(DefaultValue::Float(1.0))
+    .doc("imaginary part (extinction) of the metal's index");
 
 /// `distribution` and `alpha`, or `alpha_u` + `alpha_v` (floats or textures).
 pub(crate) fn roughness(a: &mut Args) -> Result<Roughness, SceneError> {

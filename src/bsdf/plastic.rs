@@ -43,19 +43,15 @@ use super::microfacet::{MicrofacetDistribution, MicrofacetType};
 use super::params::{EXT_IOR, INT_IOR, SPECULAR_REFLECTANCE};
 use super::{BsdfSample, BxdfFlags, Material};
 use crate::math::{reflect, warp, Vec2, Vec3, INV_PI};
-use crate::plugin::{declare, Args, DefaultValue, Param, SceneError, SpectrumKind, Ty};
+use crate::plugin::{declare, Args, DefaultValue, Param, SceneError};
 use crate::spectrum::SampledSpectrum;
 use crate::texture::FloatTexture;
 
 /// The parameters both plastics take.
 pub(crate) const PLASTIC: &[Param] = &[
-    Param::new(
-        "diffuse_reflectance",
-        Ty::SpectrumTexture(SpectrumKind::Albedo),
-        DefaultValue::Float(0.5),
-    )
-    .v06("diffuseReflectance")
-    .doc("albedo of the substrate"),
+    Param::reflectance("diffuse_reflectance", 0.5)
+        .v06("diffuseReflectance")
+        .doc("albedo of the substrate"),
     SPECULAR_REFLECTANCE,
     INT_IOR
         .default(DefaultValue::Float(1.49))
@@ -65,9 +61,7 @@ pub(crate) const PLASTIC: &[Param] = &[
         .doc("account for the substrate's colour in the internal reflections"),
 ];
 
-declare!(
-    /// The `plastic` plugin.
-    pub(crate) PLUGIN: Material = Bsdf "plastic" []
+declare!(PLUGIN: Material = Bsdf "plastic" []
     "diffuse substrate under a smooth dielectric coating"
     [PLASTIC] |a, _| load_plastic(a, None));
 
@@ -159,7 +153,7 @@ impl PlasticBxdf {
     }
 
     /// Lobe flags.
-    pub fn flags(&self) -> BxdfFlags {
+    pub(crate) fn flags(&self) -> BxdfFlags {
         let specular = match self.coat {
             None => BxdfFlags::SPECULAR_REFLECTION,
             Some(_) => BxdfFlags::GLOSSY_REFLECTION,
@@ -188,7 +182,7 @@ impl PlasticBxdf {
     }
 
     /// Density of the non-delta lobes.
-    pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+    pub(crate) fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
         if wo.z <= 0.0 || wi.z <= 0.0 {
             return 0.0;
         }

@@ -26,9 +26,7 @@ use super::params::{conductor_ior, surface, METAL, REFLECTION_FACTOR, ROUGHNESS}
 use super::{Interface, Material};
 use crate::plugin::{declare, Args, SceneError};
 
-declare!(
-    /// The `roughconductor` plugin.
-    pub(crate) PLUGIN: Material = Bsdf "roughconductor" []
+declare!(PLUGIN: Material = Bsdf "roughconductor" []
     "rough metal: microfacet reflection with measured complex indices"
     [ROUGHNESS, METAL, REFLECTION_FACTOR] load);
 

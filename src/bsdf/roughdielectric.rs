@@ -26,9 +26,7 @@ use super::params::{relative_ior, surface, DIELECTRIC_IORS, FACTORS, ROUGHNESS};
 use super::{Interface, Material};
 use crate::plugin::{declare, Args, SceneError};
 
-declare!(
-    /// The `roughdielectric` plugin.
-    pub(crate) PLUGIN: Material = Bsdf "roughdielectric" []
+declare!(PLUGIN: Material = Bsdf "roughdielectric" []
     "rough glass: microfacet reflection and refraction"
     [ROUGHNESS, DIELECTRIC_IORS, FACTORS] load);
 

@@ -24,9 +24,7 @@ use super::Material;
 use crate::bsdf::microfacet::MicrofacetType;
 use crate::plugin::{declare, Args, SceneError};
 
-declare!(
-    /// The `roughplastic` plugin.
-    pub(crate) PLUGIN: Material = Bsdf "roughplastic" []
+declare!(PLUGIN: Material = Bsdf "roughplastic" []
     "diffuse substrate under a rough dielectric coating"
     [&[DISTRIBUTION, ALPHA, SAMPLE_VISIBLE], PLASTIC] load);
 

@@ -39,15 +39,11 @@ use super::params::{DIELECTRIC_IORS, FACTORS, ROUGHNESS};
 use super::Material;
 use crate::plugin::{declare, Args, SceneError};
 
-declare!(
-    /// The `roughthinfilm` plugin.
-    pub(crate) PLUGIN: Material = Bsdf "roughthinfilm" []
+declare!(PLUGIN: Material = Bsdf "roughthinfilm" []
     "rough dielectric carrying a thin film on every microfacet"
     [FILM, ROUGHNESS, DIELECTRIC_IORS, FACTORS] load);
 
-declare!(
-    /// The thesis's `roughdielectricThinFilm`.
-    pub(crate) THESIS_PLUGIN: Material = Bsdf "roughdielectricThinFilm" []
+declare!(THESIS_PLUGIN: Material = Bsdf "roughdielectricThinFilm" []
     "the thesis's rough film plugin: `roughthinfilm` with its defaults"
     [THESIS_FILM, ROUGHNESS, THESIS_DIELECTRIC_IORS, FACTORS] load);
 

@@ -29,9 +29,7 @@ use super::params::{REFLECTION_FACTOR, ROUGHNESS};
 use super::Material;
 use crate::plugin::{declare, Args, SceneError};
 
-declare!(
-    /// The `roughthinfilmconductor` plugin.
-    pub(crate) PLUGIN: Material = Bsdf "roughthinfilmconductor" []
+declare!(PLUGIN: Material = Bsdf "roughthinfilmconductor" []
     "a thin film over a rough metal"
     [FILM, ROUGHNESS, METAL_UNDER_FILM, REFLECTION_FACTOR] load);
 

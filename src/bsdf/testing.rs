@@ -14,13 +14,22 @@
 //! - [`reciprocity_error`]: f(a, b) in radiance mode against f(b, a) in importance mode (the
 //!   adjoint BSDF), which for reflection is plain reciprocity and for refraction includes η².
 
-use super::{BsdfSample, Bxdf, TransportMode};
-use crate::math::{warp, Pcg32, Vec2, Vec3, PI};
-use crate::spectrum::{SampledSpectrum, N};
+use super::{Bxdf, TransportMode};
+use crate::math::{Pcg32, Vec3};
+use crate::spectrum::N;
+// The χ² harness and the other checks below serve only the unit tests; the albedo estimate
+// and `direction` also serve `ophis bsdf`.
+#[cfg(test)]
+use {
+    super::BsdfSample,
+    crate::math::{warp, Vec2, PI},
+    crate::spectrum::SampledSpectrum,
+};
 
+#[cfg(test)]
 /// Parameters of a χ² test.
 #[derive(Clone, Copy, Debug)]
-pub struct Chi2Config {
+pub(crate) struct Chi2Config {
     /// Number of bins in cos θ over [−1, 1].
     pub cos_bins: usize,
     /// Number of bins in φ over [0, 2π).
@@ -35,6 +44,7 @@ pub struct Chi2Config {
     pub significance: f64,
 }
 
+#[cfg(test)]
 impl Default for Chi2Config {
     fn default() -> Self {
         Chi2Config {
@@ -48,9 +58,10 @@ impl Default for Chi2Config {
     }
 }
 
+#[cfg(test)]
 /// What a χ² test found.
 #[derive(Clone, Debug)]
-pub struct Chi2Outcome {
+pub(crate) struct Chi2Outcome {
     pub statistic: f64,
     pub dof: usize,
     pub p_value: f64,
@@ -64,9 +75,10 @@ pub struct Chi2Outcome {
     pub pdf_integral: f64,
 }
 
+#[cfg(test)]
 /// Runs the χ² test; `Err` explains a failure (low p-value, samples where pdf = 0, or samples
 /// whose `f`/`pdf` disagree with evaluation).
-pub fn chi2_test(
+pub(crate) fn chi2_test(
     bxdf: &Bxdf,
     wo: Vec3,
     mode: TransportMode,
@@ -75,9 +87,10 @@ pub fn chi2_test(
     chi2_test_against(bxdf, bxdf, wo, mode, cfg)
 }
 
+#[cfg(test)]
 /// [`chi2_test`] of `sampler`'s directions against the density `pdf()` of another BSDF,
 /// `density` (e.g. a stochastic BSDF's sampler against a closed form of the same model).
-pub fn chi2_test_against(
+pub(crate) fn chi2_test_against(
     sampler: &Bxdf,
     density: &Bxdf,
     wo: Vec3,
@@ -93,11 +106,12 @@ pub fn chi2_test_against(
     )
 }
 
+#[cfg(test)]
 /// The χ² test on functions: `sample` draws a direction from (uc, u), `pdf` and `f` are what
 /// the sampler claims to have used (checked sample by sample unless the sample's pdf is only
 /// proportional), and `density` is integrated over the bins for the expected counts (e.g. a
 /// sampler that takes extra parameters, as `Bxdf::sample_f_weighted`).
-pub fn chi2_test_fns(
+pub(crate) fn chi2_test_fns(
     mut sample: impl FnMut(f32, Vec2) -> Option<BsdfSample>,
     pdf: impl Fn(Vec3) -> f32,
     f: impl Fn(Vec3) -> SampledSpectrum,
@@ -201,11 +215,16 @@ pub fn chi2_test_fns(
         pdf_integral,
     };
     if p_value < threshold {
-        return Err(format!("χ² rejected: {out:?}"));
+        return Err(format!(
+            "χ² rejected: statistic {:.1} over {} degrees of freedom, p = {:.2e} below the \
+             corrected significance {:.2e} ({out:?})",
+            out.statistic, out.dof, out.p_value, out.threshold
+        ));
     }
     Ok(out)
 }
 
+#[cfg(test)]
 fn cell_of(w: Vec3, nc: usize, np: usize) -> usize {
     let c = w.z.clamp(-1.0, 1.0) as f64;
     let ic = (((c + 1.0) * 0.5 * nc as f64) as usize).min(nc - 1);
@@ -217,6 +236,7 @@ fn cell_of(w: Vec3, nc: usize, np: usize) -> usize {
     ic * np + ip
 }
 
+#[cfg(test)]
 /// ∫∫ g over a rectangle: 4×4 starting pieces, each refined adaptively by Simpson's rule.
 fn integrate_cell(
     g: &mut impl FnMut(f64, f64) -> f64,
@@ -239,6 +259,7 @@ fn integrate_cell(
     s
 }
 
+#[cfg(test)]
 fn simpson(g: &mut impl FnMut(f64, f64) -> f64, x0: f64, x1: f64, y0: f64, y1: f64) -> f64 {
     let (xm, ym) = (0.5 * (x0 + x1), 0.5 * (y0 + y1));
     let w = [1.0, 4.0, 1.0];
@@ -253,6 +274,7 @@ fn simpson(g: &mut impl FnMut(f64, f64) -> f64, x0: f64, x1: f64, y0: f64, y1: f
     s * (x1 - x0) * (y1 - y0) / 36.0
 }
 
+#[cfg(test)]
 #[allow(clippy::too_many_arguments)]
 fn adapt(
     g: &mut impl FnMut(f64, f64) -> f64,
@@ -282,8 +304,9 @@ fn adapt(
         + adapt(g, xm, x1, ym, y1, q[3], t, depth - 1)
 }
 
+#[cfg(test)]
 /// ln Γ(x) for x > 0 (Lanczos approximation, g = 7, nine terms; relative error ~1e-15).
-pub fn ln_gamma(x: f64) -> f64 {
+pub(crate) fn ln_gamma(x: f64) -> f64 {
     const C: [f64; 9] = [
         0.999_999_999_999_809_9,
         676.520_368_121_885_1,
@@ -309,9 +332,10 @@ pub fn ln_gamma(x: f64) -> f64 {
     0.5 * (2.0 * std::f64::consts::PI).ln() + (x + 0.5) * t.ln() - t + a.ln()
 }
 
+#[cfg(test)]
 /// Regularised upper incomplete gamma Q(a, x) = Γ(a, x)/Γ(a): the series of P for x < a + 1,
 /// a Lentz continued fraction for Q otherwise.
-pub fn gamma_q(a: f64, x: f64) -> f64 {
+pub(crate) fn gamma_q(a: f64, x: f64) -> f64 {
     if x <= 0.0 {
         return 1.0;
     }
@@ -372,12 +396,25 @@ impl Estimate {
             std_err: (var / (n - 1.0).max(1.0)).sqrt(),
         }
     }
+    #[cfg(test)]
+    /// The mean of `n` draws of `x` and its standard error.
+    pub(crate) fn of(n: usize, mut x: impl FnMut() -> f64) -> Estimate {
+        let (mut s, mut s2) = (0.0f64, 0.0f64);
+        for _ in 0..n {
+            let v = x();
+            s += v;
+            s2 += v * v;
+        }
+        Estimate::from_sums(s, s2, n)
+    }
+    #[cfg(test)]
     /// Whether two independent estimates agree within `k` combined standard errors.
-    pub fn agrees_with(&self, o: &Estimate, k: f64) -> bool {
+    pub(crate) fn agrees_with(&self, o: &Estimate, k: f64) -> bool {
         (self.mean - o.mean).abs() <= k * (self.std_err.powi(2) + o.std_err.powi(2)).sqrt()
     }
+    #[cfg(test)]
     /// Whether the estimate is compatible with a true value ≤ `bound` at `k` standard errors.
-    pub fn at_most(&self, bound: f64, k: f64) -> bool {
+    pub(crate) fn at_most(&self, bound: f64, k: f64) -> bool {
         self.mean <= bound + k * self.std_err
     }
 }
@@ -422,8 +459,52 @@ pub fn albedo(
     )
 }
 
+#[cfg(test)]
+/// Asserts reciprocity (see [`reciprocity_error`], below 2·10⁻³) between `n` pairs of uniform
+/// random directions from the stream `seed`, of which at least `min_checked` must carry
+/// f ≥ 10⁻³ (below that, values are dominated by the f32 rounding of the angles).
+pub(crate) fn assert_reciprocal(b: &Bxdf, n: usize, seed: u64, min_checked: usize) {
+    let mut rng = Pcg32::new(seed, seed);
+    let mut checked = 0;
+    for _ in 0..n {
+        let a = warp::square_to_uniform_sphere(rng.next_vec2());
+        let c = warp::square_to_uniform_sphere(rng.next_vec2());
+        if b.f(a, c, TransportMode::Radiance).max_value() < 1e-3 {
+            continue;
+        }
+        checked += 1;
+        let e = reciprocity_error(b, a, c);
+        assert!(e < 2e-3, "{a:?} {c:?}: {e}");
+    }
+    assert!(checked > min_checked, "{checked}");
+}
+
+#[cfg(test)]
+/// Asserts that a lossless BxDF returns all the energy it receives: in importance mode (no 1/η²
+/// factor) its albedo, reflection and transmission together, is 1 within 4σ at each incident
+/// polar angle `thetas` (degrees, negative from below) and azimuth `phi`, over `n` samples.
+pub(crate) fn assert_keeps_all_energy(b: &Bxdf, thetas: &[f32], phi: f32, n: usize, what: &str) {
+    for &theta in thetas {
+        let a = albedo(
+            b,
+            direction(theta, phi),
+            TransportMode::Importance,
+            n,
+            3,
+            true,
+        );
+        for e in &a {
+            assert!(
+                (e.mean - 1.0).abs() <= 4.0 * e.std_err + 1e-5,
+                "{what} θ {theta}: {a:?}"
+            );
+        }
+    }
+}
+
+#[cfg(test)]
 /// ∫ f(wo, wi) |cos θi| dwi over the sphere by uniform sampling (non-delta lobes only).
-pub fn hemispherical_integral(
+pub(crate) fn hemispherical_integral(
     bxdf: &Bxdf,
     wo: Vec3,
     mode: TransportMode,
@@ -441,10 +522,11 @@ pub fn hemispherical_integral(
     )
 }
 
+#[cfg(test)]
 /// Largest relative difference over the channels between f(a, b) in radiance mode and
 /// f(b, a) in importance mode (0 when both are below 1e-20, where f32 intermediates run into
 /// subnormals and carry no relative precision, and the value is irrelevant to any render).
-pub fn reciprocity_error(bxdf: &Bxdf, a: Vec3, b: Vec3) -> f32 {
+pub(crate) fn reciprocity_error(bxdf: &Bxdf, a: Vec3, b: Vec3) -> f32 {
     let f1 = bxdf.f(a, b, TransportMode::Radiance);
     let f2 = bxdf.f(b, a, TransportMode::Importance);
     (0..N)

@@ -125,17 +125,22 @@ fn chi2_diffuse_and_plastic() {
     }
 }
 
-#[test]
-fn chi2_rough_conductor() {
-    let mut seed = 300;
+/// χ² of `make(kind, α)` at each of `ANGLES`, for both distributions and each roughness,
+/// with seeds counting up from `seed` + 1.
+fn chi2_each_kind<A: Copy>(alphas: &[A], mut seed: u64, make: impl Fn(MicrofacetType, A) -> Bxdf) {
     for kind in KINDS {
-        for a in ALPHAS {
+        for &a in alphas {
             for t in ANGLES {
                 seed += 1;
-                chi2(&rough_conductor(kind, a), t, Radiance, seed);
+                chi2(&make(kind, a), t, Radiance, seed);
             }
         }
     }
+}
+
+#[test]
+fn chi2_rough_conductor() {
+    chi2_each_kind(&ALPHAS, 300, rough_conductor);
 }
 
 fn chi2_rough_dielectric(kind: MicrofacetType, seed0: u64) {
@@ -160,15 +165,7 @@ fn chi2_rough_dielectric_beckmann() {
 
 #[test]
 fn chi2_rough_plastic() {
-    let mut seed = 600;
-    for kind in KINDS {
-        for a in PLASTIC_ALPHAS {
-            for t in ANGLES {
-                seed += 1;
-                chi2(&rough_plastic(kind, a, 0.5), t, Radiance, seed);
-            }
-        }
-    }
+    chi2_each_kind(&PLASTIC_ALPHAS, 600, |kind, a| rough_plastic(kind, a, 0.5));
 }
 
 #[test]

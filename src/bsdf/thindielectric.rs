@@ -20,9 +20,7 @@ use super::params::{relative_ior, surface, DIELECTRIC_IORS, FACTORS};
 use super::{Interface, Material};
 use crate::plugin::{declare, Args, SceneError};
 
-declare!(
-    /// The `thindielectric` plugin.
-    pub(crate) PLUGIN: Material = Bsdf "thindielectric" []
+declare!(PLUGIN: Material = Bsdf "thindielectric" []
     "a thin sheet (window pane): two faces, light passes straight on"
     [DIELECTRIC_IORS, FACTORS] load);
 

@@ -40,15 +40,11 @@ use super::params::{DIELECTRIC_IORS, FACTORS};
 use super::Material;
 use crate::plugin::{declare, Args, SceneError};
 
-declare!(
-    /// The `thinfilm` plugin.
-    pub(crate) PLUGIN: Material = Bsdf "thinfilm" []
+declare!(PLUGIN: Material = Bsdf "thinfilm" []
     "smooth dielectric carrying a thin film (exact interference)"
     [FILM, DIELECTRIC_IORS, FACTORS] load);
 
-declare!(
-    /// The thesis's `dielectricThinFilm` (its names and defaults).
-    pub(crate) THESIS_PLUGIN: Material = Bsdf "dielectricThinFilm" []
+declare!(THESIS_PLUGIN: Material = Bsdf "dielectricThinFilm" []
     "the thesis's smooth film plugin: `thinfilm` with its defaults"
     [THESIS_FILM, THESIS_DIELECTRIC_IORS, FACTORS] load);
 

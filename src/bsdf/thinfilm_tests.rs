@@ -9,10 +9,11 @@ use super::fresnel::fresnel_dielectric;
 use super::material::{Interface, Roughness, Surface};
 use super::microfacet::MicrofacetType;
 use super::testing::{
-    albedo, chi2_test, direction, hemispherical_integral, reciprocity_error, Chi2Config,
+    albedo, assert_keeps_all_energy, assert_reciprocal, chi2_test, direction,
+    hemispherical_integral, Chi2Config,
 };
 use super::{Bxdf, TransportMode};
-use crate::math::{Pcg32, Vec2, Vec3};
+use crate::math::{Vec2, Vec3};
 use crate::spectrum::{SampledWavelengths, Spectrum, N};
 use crate::texture::{FloatTexture, SpectrumTexture, TexCoord};
 
@@ -313,23 +314,8 @@ fn furnace_smooth_lossless_film_keeps_all_energy() {
             mode,
             ..Stack::bubble()
         };
-        let b = s.bxdf(WL);
-        for th in [0.0, 45.0, 80.0, -30.0, -60.0] {
-            let a = albedo(
-                &b,
-                direction(th, 0.0),
-                TransportMode::Importance,
-                20_000,
-                3,
-                true,
-            );
-            for e in &a {
-                assert!(
-                    (e.mean - 1.0).abs() <= 4.0 * e.std_err + 1e-5,
-                    "{mode:?} {th}: {a:?}"
-                );
-            }
-        }
+        let thetas = [0.0, 45.0, 80.0, -30.0, -60.0];
+        assert_keeps_all_energy(&s.bxdf(WL), &thetas, 0.0, 20_000, &format!("{mode:?}"));
     }
 }
 
@@ -390,18 +376,5 @@ fn rough_film_is_reciprocal() {
         0.3,
         FilmMode::Spectral,
     );
-    let b = s.bxdf(WL);
-    let mut rng = Pcg32::new(9, 9);
-    let mut checked = 0;
-    for _ in 0..1000 {
-        let a = crate::math::warp::square_to_uniform_sphere(rng.next_vec2());
-        let c = crate::math::warp::square_to_uniform_sphere(rng.next_vec2());
-        if b.f(a, c, TransportMode::Radiance).max_value() < 1e-3 {
-            continue;
-        }
-        checked += 1;
-        let e = reciprocity_error(&b, a, c);
-        assert!(e < 2e-3, "{a:?} {c:?}: {e}");
-    }
-    assert!(checked > 150, "{checked}");
+    assert_reciprocal(&s.bxdf(WL), 1000, 9, 150);
 }

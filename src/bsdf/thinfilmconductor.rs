@@ -30,15 +30,11 @@ use super::params::REFLECTION_FACTOR;
 use super::Material;
 use crate::plugin::{declare, Args, SceneError};
 
-declare!(
-    /// The `thinfilmconductor` plugin.
-    pub(crate) PLUGIN: Material = Bsdf "thinfilmconductor" []
+declare!(PLUGIN: Material = Bsdf "thinfilmconductor" []
     "a thin film over a polished metal"
     [FILM, METAL_UNDER_FILM, REFLECTION_FACTOR] load);
 
-declare!(
-    /// The thesis's `conductorThinFilm`.
-    pub(crate) THESIS_PLUGIN: Material = Bsdf "conductorThinFilm" []
+declare!(THESIS_PLUGIN: Material = Bsdf "conductorThinFilm" []
     "the thesis's film-over-metal plugin: `thinfilmconductor` with its defaults"
     [THESIS_FILM, METAL_UNDER_FILM, REFLECTION_FACTOR] load);
 

@@ -13,9 +13,7 @@
 use super::Material;
 use crate::plugin::{declare, Args, DefaultValue, Param, SceneError, Tag, Ty};
 
-declare!(
-    /// The `twosided` plugin.
-    pub(crate) PLUGIN: Material = Bsdf "twosided" []
+declare!(PLUGIN: Material = Bsdf "twosided" []
     "the same BSDF on both sides, or one per side"
     [&[Param::new("(nested)", Ty::Bsdf, DefaultValue::Required)
             .doc("one BSDF for both sides, or two: front, then back")]] load);

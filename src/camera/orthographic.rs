@@ -7,16 +7,33 @@
 //! `to_world` (e.g. `<scale x="10" y="10"/>` before the `lookat` makes it 20 units wide), as in
 //! Mitsuba.
 //!
-//! | XML name    | type      | default | unit        | meaning                                   |
-//! |-------------|-----------|---------|-------------|-------------------------------------------|
-//! | `near_clip` | float     | 0.01    | camera units| where rays start (along the view axis)    |
-//! | `far_clip`  | float     | 10000   | camera units| where rays end                            |
-//! | `to_world`  | transform | identity| —           | camera-to-world, its scale sizing the sensor |
+//! ## Parameters
 //!
-//! Limits: the pixel footprint for texture filtering is the pixel's width on the sensor at every
-//! distance (exact for this projection, but it ignores the surface's slant).
+//! | parameter | type | default | unit | meaning |
+//! |---|---|---|---|---|
+//! | `near_clip` (0.6: `nearClip`) | float | 0.01 | world units | distance along the view axis where rays start; positive |
+//! | `far_clip` (0.6: `farClip`) | float | 10000.0 | world units | distance along the view axis where rays end, beyond `near_clip`; positive |
+//! | `to_world` (0.6: `toWorld`) | transform | — | — | camera-to-world: the camera looks down its local +z, +y up, +x to the image's left |
+//! | `(nested)` | film | `hdrfilm` | — | the film: image size and reconstruction filter |
+//! | `(nested)` | sampler | `independent` | — | the sampler: samples per pixel and seed |
+//!
+//! Known limits: the pixel footprint for texture filtering is the pixel's width on the sensor
+//! at every distance (exact for this projection, but it ignores the surface's slant).
 
+use super::{Camera, Common, Sensor};
 use crate::math::{Ray, Transform, Vec2, Vec3};
+use crate::plugin::{declare, Args, SceneError};
+
+declare!(PLUGIN: Sensor, Option<(u32, u32)> = Sensor "orthographic" []
+    "parallel projection from a planar sensor sized by `to_world`"
+    [super::SENSOR] load);
+
+fn load(a: &mut Args, resolution: Option<(u32, u32)>) -> Result<Sensor, SceneError> {
+    let c = Common::read(a, resolution)?;
+    let (w, h) = (c.film.width, c.film.height);
+    let camera = OrthographicCamera::new(c.to_world, w, h, c.near_clip, c.far_clip);
+    Ok(c.sensor(Camera::Orthographic(camera)))
+}
 
 /// An orthographic camera.
 #[derive(Clone, Debug)]
@@ -64,7 +81,7 @@ impl OrthographicCamera {
     }
 
     /// Width of one pixel on the sensor, in world units, for an image `height` pixels tall.
-    pub fn pixel_width(&self, height: u32) -> f32 {
+    pub(crate) fn pixel_width(&self, height: u32) -> f32 {
         let up = self.to_world.vector(Vec3::new(0.0, 2.0 * self.half.y, 0.0));
         up.length() / height.max(1) as f32
     }

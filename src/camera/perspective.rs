@@ -1,21 +1,114 @@
 //! `perspective`: a pinhole camera with Mitsuba's conventions.
 //!
-//! | XML name    | type      | default | meaning                                              |
-//! |-------------|-----------|---------|------------------------------------------------------|
-//! | `fov`       | float     | —       | field of view in degrees along `fov_axis`            |
-//! | `fov_axis`  | string    | `x`     | `x`, `y`, `diagonal`, `smaller` or `larger`          |
-//! | `near_clip` | float     | 0.01    | distance along the view axis where rays start        |
-//! | `far_clip`  | float     | 10000   | distance along the view axis where rays end          |
-//! | `to_world`  | transform | id.     | camera-to-world; the camera looks down its local +z  |
-//! | `focal_length` | string | `50mm`  | alternative to `fov`: 35 mm film equivalent (diagonal) |
-//! | `focus_distance` | float | —      | read and ignored, as Mitsuba's pinhole does (`thinlens` uses it) |
+//! ## Parameters
+//!
+//! | parameter | type | default | unit | meaning |
+//! |---|---|---|---|---|
+//! | `fov` | float | from `focal_length` | degrees | field of view along `fov_axis`; strictly between 0 and 180 |
+//! | `fov_axis` (0.6: `fovAxis`) | string | `x`; `diagonal` without `fov` | — | the image axis `fov` spans; one of 'x', 'y', 'diagonal', 'smaller', 'larger' |
+//! | `focal_length` (0.6: `focalLength`) | string | `50mm` | — | read without `fov`: the 35 mm film equivalent focal length, as `50mm` |
+//! | `focus_distance` (0.6: `focusDistance`) | float | `far_clip` | world units | read and ignored, as Mitsuba's pinhole does (`thinlens` focuses there); positive |
+//! | `near_clip` (0.6: `nearClip`) | float | 0.01 | world units | distance along the view axis where rays start; positive |
+//! | `far_clip` (0.6: `farClip`) | float | 10000.0 | world units | distance along the view axis where rays end, beyond `near_clip`; positive |
+//! | `to_world` (0.6: `toWorld`) | transform | — | — | camera-to-world: the camera looks down its local +z, +y up, +x to the image's left |
+//! | `(nested)` | film | `hdrfilm` | — | the film: image size and reconstruction filter |
+//! | `(nested)` | sampler | `independent` | — | the sampler: samples per pixel and seed |
 //!
 //! As in Mitsuba, the camera's local +x axis points to the *left* of the image and +y up, so a
-//! `lookat` transform (x = up × dir) gives an upright, unmirrored picture. Mitsuba 0.6's `fovAxis`
-//! and `nearClip`/`farClip` arrive here through the loader's camelCase upgrade.
+//! `lookat` transform (x = up × dir) gives an upright, unmirrored picture. Without `fov`, the
+//! field of view follows from `focal_length` as on a 36 × 24 mm frame: the horizontal angle of
+//! a 36 mm wide frame, applied to the diagonal (Mitsuba's rule). Mitsuba's other sensors
+//! (`radiancemeter`, `irradiancemeter`, `distant`, …) load as this camera, with a warning.
+//!
+//! Known limits: no lens distortion (`perspective_rdist`), no crop window; the pixel footprint
+//! used for texture filtering is estimated at the image centre.
 
+use super::{Camera, Common, Sensor};
 use crate::math::{Ray, Transform, Vec2, Vec3};
+use crate::plugin::{declare, Args, Check, DefaultValue, Param, SceneError, Ty};
 use crate::simd::{Float, V3};
+
+declare!(PLUGIN: Sensor, Option<(u32, u32)> = Sensor "perspective" []
+    "pinhole camera"
+    [FIELD_OF_VIEW, &[
+        Param::new("focus_distance", Ty::Float, DefaultValue::Derived("`far_clip`"))
+            .v06("focusDistance")
+            .check(Check::Positive)
+            .unit("world units")
+            .doc("read and ignored, as Mitsuba's pinhole does (`thinlens` focuses there)"),
+    ], super::SENSOR] load);
+
+/// The field of view of the perspective cameras (`thinlens` reads it too).
+pub(crate) const FIELD_OF_VIEW: &[Param] = &[
+    Param::new(
+        "fov",
+        Ty::Float,
+        DefaultValue::Derived("from `focal_length`"),
+    )
+    .check(Check::Open(0.0, 180.0))
+    .unit("degrees")
+    .doc("field of view along `fov_axis`"),
+    Param::new(
+        "fov_axis",
+        Ty::String,
+        DefaultValue::Derived("`x`; `diagonal` without `fov`"),
+    )
+    .v06("fovAxis")
+    .check(Check::OneOf(&["x", "y", "diagonal", "smaller", "larger"]))
+    .doc("the image axis `fov` spans"),
+    Param::string("focal_length", "50mm")
+        .v06("focalLength")
+        .doc("read without `fov`: the 35 mm film equivalent focal length, as `50mm`"),
+];
+
+fn load(a: &mut Args, resolution: Option<(u32, u32)>) -> Result<Sensor, SceneError> {
+    let c = Common::read(a, resolution)?;
+    let camera = c.pinhole(a)?;
+    a.float_opt("focus_distance")?;
+    Ok(c.sensor(Camera::Perspective(camera)))
+}
+
+impl Common {
+    /// The pinhole camera of a perspective or thin-lens sensor: [`FIELD_OF_VIEW`] read from `a`.
+    pub(crate) fn pinhole(&self, a: &Args) -> Result<PerspectiveCamera, SceneError> {
+        let fov = match a.float_opt("fov")? {
+            Some(f) => f,
+            None => {
+                let fl = a.string("focal_length")?;
+                let mm: f32 = fl.trim_end_matches("mm").trim().parse().map_err(|_| {
+                    a.error("focal_length", format!("must look like '50mm', got '{fl}'"))
+                })?;
+                if !(mm > 0.0) {
+                    return Err(a.error("focal_length", "must be positive"));
+                }
+                // Horizontal fov of a 36 mm wide frame, applied to the diagonal as Mitsuba does.
+                let fov = 2.0 * (43.266_615 / (2.0 * mm)).atan().to_degrees();
+                if !(fov > 0.0 && fov < 180.0) {
+                    let e = format!("gives a field of view of {fov} degrees; expected 0 to 180");
+                    return Err(a.error("focal_length", e));
+                }
+                fov
+            }
+        };
+        let axis = match a.string_opt("fov_axis")? {
+            Some(name) => FovAxis::from_name(&name),
+            None if a.has("fov") => Some(FovAxis::X),
+            None => Some(FovAxis::Diagonal),
+        }
+        // The declaration's check has refused any other name.
+        .ok_or_else(|| a.error("fov_axis", "unknown axis"))?;
+        let (w, h) = (self.film.width, self.film.height);
+        Ok(PerspectiveCamera::new(
+            self.to_world,
+            fov,
+            axis,
+            w,
+            h,
+            self.near_clip,
+            self.far_clip,
+        ))
+    }
+}
 
 /// Which image axis `fov` refers to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -29,7 +122,7 @@ pub enum FovAxis {
 
 impl FovAxis {
     /// Parses Mitsuba's names.
-    pub fn from_name(s: &str) -> Option<FovAxis> {
+    pub(crate) fn from_name(s: &str) -> Option<FovAxis> {
         Some(match s {
             "x" => FovAxis::X,
             "y" => FovAxis::Y,
@@ -90,14 +183,14 @@ impl PerspectiveCamera {
 
     /// Angle one pixel subtends at the image centre, for an image `height` pixels tall
     /// (a footprint estimate for texture filtering).
-    pub fn pixel_angle(&self, height: u32) -> f32 {
+    pub(crate) fn pixel_angle(&self, height: u32) -> f32 {
         2.0 * self.tan_half.y / height.max(1) as f32
     }
 
     /// The camera-space direction (not normalised, z = 1) through the film point `film` ∈ [0,1]²
     /// (x right, y down).
     #[inline]
-    pub fn local_direction(&self, film: Vec2) -> Vec3 {
+    pub(crate) fn local_direction(&self, film: Vec2) -> Vec3 {
         Vec3::new(
             (1.0 - 2.0 * film.x) * self.tan_half.x,
             (1.0 - 2.0 * film.y) * self.tan_half.y,

@@ -13,21 +13,56 @@
 //! circle of confusion (its size on a sensor is this times the image distance, whatever the
 //! focal length). Rays start on the near clip plane, as in Mitsuba.
 //!
-//! | XML name          | type      | default    | unit        | meaning                          |
-//! |-------------------|-----------|------------|-------------|----------------------------------|
-//! | `aperture_radius` | float     | (required) | world units | radius of the lens aperture      |
-//! | `focus_distance`  | float     | `far_clip` | world units | distance of the focal plane along the view axis |
-//! | `fov`, `fov_axis`, `focal_length` | | as `perspective` | | field of view              |
-//! | `near_clip`, `far_clip` | float | 0.01, 10000 | world units | clip planes along the view axis |
-//! | `to_world`        | transform | identity   | —           | camera-to-world; no scaling (as Mitsuba) |
+//! ## Parameters
+//!
+//! | parameter | type | default | unit | meaning |
+//! |---|---|---|---|---|
+//! | `aperture_radius` (0.6: `apertureRadius`) | float | required | world units | radius of the lens aperture (0: a pinhole); non-negative |
+//! | `focus_distance` (0.6: `focusDistance`) | float | `far_clip` | world units | distance of the focal plane along the view axis; positive |
+//! | `fov` | float | from `focal_length` | degrees | field of view along `fov_axis`; strictly between 0 and 180 |
+//! | `fov_axis` (0.6: `fovAxis`) | string | `x`; `diagonal` without `fov` | — | the image axis `fov` spans; one of 'x', 'y', 'diagonal', 'smaller', 'larger' |
+//! | `focal_length` (0.6: `focalLength`) | string | `50mm` | — | read without `fov`: the 35 mm film equivalent focal length, as `50mm` |
+//! | `near_clip` (0.6: `nearClip`) | float | 0.01 | world units | distance along the view axis where rays start; positive |
+//! | `far_clip` (0.6: `farClip`) | float | 10000.0 | world units | distance along the view axis where rays end, beyond `near_clip`; positive |
+//! | `to_world` (0.6: `toWorld`) | transform | — | — | camera-to-world: the camera looks down its local +z, +y up, +x to the image's left |
+//! | `(nested)` | film | `hdrfilm` | — | the film: image size and reconstruction filter |
+//! | `(nested)` | sampler | `independent` | — | the sampler: samples per pixel and seed |
 //!
 //! For a macro photograph: an aperture of f-number N and focal length f has radius f/(2N), e.g. a
 //! 100 mm lens at f/8 is 6.25 mm. Limits: no lens distortion, no vignetting, no bokeh shapes (the
 //! aperture is a disk); the pixel footprint used for texture filtering is the pinhole's.
 
-use super::PerspectiveCamera;
+use super::{Camera, Common, PerspectiveCamera, Sensor};
 use crate::math::warp::square_to_uniform_disk_concentric;
 use crate::math::{Ray, Vec2, Vec3};
+use crate::plugin::{declare, Args, Check, DefaultValue, Param, SceneError, Ty};
+
+declare!(PLUGIN: Sensor, Option<(u32, u32)> = Sensor "thinlens" []
+    "perspective camera with a thin lens: depth of field"
+    [&[
+        Param::new("aperture_radius", Ty::Float, DefaultValue::Required)
+            .v06("apertureRadius")
+            .check(Check::NonNegative)
+            .unit("world units")
+            .doc("radius of the lens aperture (0: a pinhole)"),
+        Param::new("focus_distance", Ty::Float, DefaultValue::Derived("`far_clip`"))
+            .v06("focusDistance")
+            .check(Check::Positive)
+            .unit("world units")
+            .doc("distance of the focal plane along the view axis"),
+    ], super::perspective::FIELD_OF_VIEW, super::SENSOR] load);
+
+fn load(a: &mut Args, resolution: Option<(u32, u32)>) -> Result<Sensor, SceneError> {
+    let c = Common::read(a, resolution)?;
+    let pinhole = c.pinhole(a)?;
+    let focus_distance = a.float_opt("focus_distance")?.unwrap_or(c.far_clip);
+    let camera = ThinLensCamera {
+        pinhole,
+        aperture_radius: a.float("aperture_radius")?,
+        focus_distance,
+    };
+    Ok(c.sensor(Camera::ThinLens(camera)))
+}
 
 /// A thin-lens camera.
 #[derive(Clone, Debug)]
@@ -59,9 +94,10 @@ impl ThinLensCamera {
         }
     }
 
+    #[cfg(test)]
     /// The thin-lens circle of confusion of a point at depth `z` (camera space), as a radius in
     /// the tangent-of-angle units of the film plane.
-    pub fn confusion_radius(&self, z: f32) -> f32 {
+    pub(crate) fn confusion_radius(&self, z: f32) -> f32 {
         self.aperture_radius * (1.0 / self.focus_distance - 1.0 / z).abs()
     }
 }

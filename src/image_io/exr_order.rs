@@ -7,7 +7,7 @@
 
 /// Sorts the attributes of a single-part EXR header in place by name. Leaves anything it
 /// does not recognise (multi-part files, malformed headers) untouched.
-pub fn sort_header_attributes(bytes: &mut [u8]) {
+pub(crate) fn sort_header_attributes(bytes: &mut [u8]) {
     const MULTIPART: u32 = 0x1000;
     if bytes.len() < 8 {
         return;

@@ -3,6 +3,21 @@
 //! scanlines that are either flat 4-byte pixels (with the old run-length marker 1,1,1,n) or
 //! new-style run-length encoded (marker 2,2,w_hi,w_lo, then each of the four components
 //! separately, as runs `128+n, byte` or literals `n, bytes…`).
+//!
+//! Why ophis keeps its own reader rather than a maintained crate (measured with
+//! `bench/hdr_decoders`, which decodes one 8192 × 4096 run-length encoded file with each, best
+//! of 7, in two runs on a shared 2-core machine, and feeds each the same broken files):
+//! - speed: this reader 412–540 ms, `image` 0.25 (`hdr` feature only) 479–556 ms, `radiant` 0.3
+//!   547–564 ms: no faster;
+//! - values: both crates decode a mantissa m as m·2^(e−136), this reader as (m + ½)·2^(e−136),
+//!   the centre of the bucket as Radiance itself does; switching would change every pixel by up
+//!   to 1 % (relative) and so the images of the scenes lit by `.hdr` environments;
+//! - errors: theirs do not name the file and are vaguer ("failed to fill whole buffer",
+//!   "unexpected end of file", XYZE reported by `radiant` as "invalid run-length encoding");
+//!   `radiant` allocates a forged header's width × height before reading a pixel and aborts
+//!   the process (100000 × 100000: 120 GB), `image` allocates what the caller asks for, where
+//!   this reader refuses a resolution the file's size cannot hold;
+//! - weight: `image` brings `moxcms`, `pxfm`, `num-traits`, `bytemuck`, `byteorder-lite`.
 
 use super::{check_size, ImageError, RgbImage};
 use std::path::Path;

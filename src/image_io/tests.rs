@@ -264,31 +264,23 @@ fn bad_files_give_typed_errors() {
     .unwrap();
     assert!(matches!(expect_err(&xyze), ImageError::Unsupported { .. }));
 
+    // A PNG or an EXR cut in half is truncated or malformed.
+    let cut_in_half = |path: &Path| {
+        let bytes = std::fs::read(path).unwrap();
+        std::fs::write(path, &bytes[..bytes.len() / 2]).unwrap();
+        let e = expect_err(path);
+        let bad = matches!(
+            e,
+            ImageError::Truncated { .. } | ImageError::Malformed { .. }
+        );
+        assert!(bad, "{e}");
+    };
     let png_path = d.join("t.png");
     write_png(&png_path, &img).unwrap();
-    let bytes = std::fs::read(&png_path).unwrap();
-    std::fs::write(&png_path, &bytes[..bytes.len() / 2]).unwrap();
-    let e = expect_err(&png_path);
-    assert!(
-        matches!(
-            e,
-            ImageError::Truncated { .. } | ImageError::Malformed { .. }
-        ),
-        "{e}"
-    );
-
+    cut_in_half(&png_path);
     let exr_path = d.join("t.exr");
     write_exr(&exr_path, &img, &[]).unwrap();
-    let bytes = std::fs::read(&exr_path).unwrap();
-    std::fs::write(&exr_path, &bytes[..bytes.len() / 2]).unwrap();
-    let e = expect_err(&exr_path);
-    assert!(
-        matches!(
-            e,
-            ImageError::Truncated { .. } | ImageError::Malformed { .. }
-        ),
-        "{e}"
-    );
+    cut_in_half(&exr_path);
 
     let bad = RgbImage {
         width: 2,

@@ -9,10 +9,12 @@
 //! </integrator>
 //! ```
 //!
-//! | XML name   | type       | default | meaning                                                  |
-//! |------------|------------|---------|----------------------------------------------------------|
-//! | `aovs`     | string     | (required) | comma-separated `name:type` pairs                     |
-//! | (nested)   | integrator | none    | at most one `path`: the colour image (R, G, B), also written as `NAME.R`, `.G`, `.B`, `.A` when it has a `name` |
+//! ## Parameters
+//!
+//! | parameter | type | default | unit | meaning |
+//! |---|---|---|---|---|
+//! | `aovs` | string | required | — | comma-separated `name:type` pairs (types below) |
+//! | `(nested)` | integrator | — | — | at most one `path` (or `direct`): the colour image (R, G, B), also written as `NAME.R`, `.G`, `.B`, `.A` when it has a `name` |
 //!
 //! Without a nested integrator the image is black and only the AOVs carry information.
 //!
@@ -45,7 +47,8 @@ use crate::bsdf::{Bsdf, Material, TransportMode};
 use crate::film::spectrum_to_xyz;
 use crate::math::rng::mix64;
 use crate::math::{Pcg32, Ray};
-use crate::scene::Scene;
+use crate::plugin::{declare, registry, Args, DefaultValue, Param, SceneError, Tag, Ty};
+use crate::scene::{IntegratorSettings, Scene};
 use crate::spectrum::{cie, SampledSpectrum, SampledWavelengths};
 use crate::texture::TexCoord;
 
@@ -66,7 +69,7 @@ pub enum AovKind {
 
 impl AovKind {
     /// Mitsuba's name of the type.
-    pub fn from_name(s: &str) -> Option<AovKind> {
+    pub(crate) fn from_name(s: &str) -> Option<AovKind> {
         Some(match s {
             "albedo" => AovKind::Albedo,
             "depth" => AovKind::Depth,
@@ -112,8 +115,56 @@ pub struct AovSettings {
     pub image_name: Option<String>,
 }
 
+declare!(PLUGIN: IntegratorSettings = Integrator "aov" []
+    "extra channels beside the image: depth, normals, UV, shape index, albedo, …"
+    [&[
+        Param::new("aovs", Ty::String, DefaultValue::Required)
+            .doc("comma-separated `name:type` pairs (types below)"),
+        Param::new("(nested)", Ty::Object(Tag::Integrator), DefaultValue::None).doc(
+            "at most one `path` (or `direct`): the colour image (R, G, B), also written as \
+             `NAME.R`, `.G`, `.B`, `.A` when it has a `name`",
+        ),
+    ]] load);
+
+fn load(a: &mut Args, _: ()) -> Result<IntegratorSettings, SceneError> {
+    let spec = a.string("aovs")?;
+    let aovs = parse_aovs(&spec).map_err(|e| a.error("aovs", e))?;
+    let nested: Vec<_> = a
+        .node()
+        .children
+        .iter()
+        .filter(|c| c.node.tag == Tag::Integrator)
+        .collect();
+    if let Some(extra) = nested.get(1) {
+        return Err(SceneError::at(
+            &extra.node.loc,
+            "ophis's aov integrator takes at most one nested integrator",
+        ));
+    }
+    let (mut settings, has_image, image_name) = match nested.first() {
+        Some(c) if c.node.plugin == "aov" => {
+            return Err(SceneError::at(
+                &c.node.loc,
+                "an aov integrator cannot nest another",
+            ))
+        }
+        Some(c) => (
+            registry::integrator(&c.node, a.warnings())?,
+            true,
+            c.name.clone(),
+        ),
+        None => (IntegratorSettings::default(), false, None),
+    };
+    settings.aov = Some(AovSettings {
+        aovs,
+        has_image,
+        image_name,
+    });
+    Ok(settings)
+}
+
 /// Parses Mitsuba's `aovs` string: `name:type` pairs separated by commas.
-pub fn parse_aovs(spec: &str) -> Result<Vec<Aov>, String> {
+pub(crate) fn parse_aovs(spec: &str) -> Result<Vec<Aov>, String> {
     let mut out: Vec<Aov> = Vec::new();
     for item in spec.split(',').map(str::trim).filter(|s| !s.is_empty()) {
         let Some((name, kind)) = item.split_once(':') else {
@@ -168,7 +219,7 @@ impl AovSettings {
 
     /// Adds one camera sample's AOVs to `out` (one value per channel). `key` identifies the
     /// pixel sample (it seeds the albedo estimate's own random stream).
-    pub fn accumulate(&self, scene: &Scene, ray: &Ray, key: u64, out: &mut [f64]) {
+    pub(crate) fn accumulate(&self, scene: &Scene, ray: &Ray, key: u64, out: &mut [f64]) {
         let hit = scene.intersect(ray).map(|(_, si)| si);
         let mut k = 0;
         let mut put = |vals: &[f32]| {
@@ -251,7 +302,7 @@ fn albedo(scene: &Scene, ray: &Ray, si: &crate::shape::SurfaceInteraction, key: 
 
 /// A key for one pixel sample (for [`AovSettings::accumulate`]).
 #[inline]
-pub fn sample_key(seed: u64, x: u32, y: u32, index: u32) -> u64 {
+pub(crate) fn sample_key(seed: u64, x: u32, y: u32, index: u32) -> u64 {
     mix64(seed ^ mix64(((y as u64) << 32) | x as u64) ^ ((index as u64) << 17))
 }
 

@@ -4,12 +4,14 @@
 //! counts (Veach 1997, §9.2: weights w_e = (N p_e)² / ((N p_e)² + (M p_b)²) for N light and M
 //! BSDF samples). Indirect light is not followed.
 //!
-//! | XML name          | type    | default           | meaning                                  |
-//! |-------------------|---------|-------------------|------------------------------------------|
-//! | `shading_samples` | integer | 1                 | sets both counts below                   |
-//! | `emitter_samples` | integer | `shading_samples` | light samples per camera sample (N)      |
-//! | `bsdf_samples`    | integer | `shading_samples` | BSDF samples per camera sample (M)       |
-//! | `hide_emitters`   | boolean | false             | do not show emitters seen directly       |
+//! ## Parameters
+//!
+//! | parameter | type | default | unit | meaning |
+//! |---|---|---|---|---|
+//! | `shading_samples` (0.6: `shadingSamples`) | integer | 1 | — | sets both counts below (give it or them, not both); between 0 and 65536 |
+//! | `emitter_samples` (0.6: `emitterSamples`) | integer | `shading_samples` | — | light samples per camera sample (N); between 0 and 65536 |
+//! | `bsdf_samples` (0.6: `bsdfSamples`) | integer | `shading_samples` | — | BSDF samples per camera sample (M); between 0 and 65536 |
+//! | `hide_emitters` (0.6: `hideEmitters`) | boolean | false | — | do not show emitters seen directly from the camera |
 //!
 //! As in Mitsuba, light sampling is skipped at purely specular surfaces, and a BSDF sample
 //! (specular ones included) counts the emitter it reaches: a mirror shows the lights it reflects,
@@ -24,11 +26,60 @@
 use crate::bsdf::{Bsdf, Material, TransportMode};
 use crate::light::LightSampleContext;
 use crate::math::{power_heuristic, Ray};
+use crate::plugin::{declare, Args, Check, DefaultValue, Param, SceneError, Ty};
 use crate::sampler::Sampler;
-use crate::scene::Scene;
+use crate::scene::{IntegratorKind, IntegratorSettings, Scene};
 use crate::shape::SurfaceInteraction;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use crate::texture::TexCoord;
+
+/// Most light or BSDF samples per camera sample.
+const MAX_SAMPLES: f64 = (1 << 16) as f64;
+
+declare!(PLUGIN: IntegratorSettings = Integrator "direct" []
+    "direct illumination: light and BSDF samples at the first surface, combined by MIS"
+    [&[
+        Param::int("shading_samples", 1)
+            .v06("shadingSamples")
+            .check(Check::Range(0.0, MAX_SAMPLES))
+            .doc("sets both counts below (give it or them, not both)"),
+        Param::new("emitter_samples", Ty::Integer, DefaultValue::Derived("`shading_samples`"))
+            .v06("emitterSamples")
+            .check(Check::Range(0.0, MAX_SAMPLES))
+            .doc("light samples per camera sample (N)"),
+        Param::new("bsdf_samples", Ty::Integer, DefaultValue::Derived("`shading_samples`"))
+            .v06("bsdfSamples")
+            .check(Check::Range(0.0, MAX_SAMPLES))
+            .doc("BSDF samples per camera sample (M)"),
+        super::path::HIDE_EMITTERS,
+    ]] load);
+
+fn load(a: &mut Args, _: ()) -> Result<IntegratorSettings, SceneError> {
+    if a.has("shading_samples") && (a.has("emitter_samples") || a.has("bsdf_samples")) {
+        return Err(SceneError::at(
+            &a.node().loc,
+            "integrator 'direct': found 'shading_samples' and 'emitter_samples' or \
+             'bsdf_samples'; expected either the first or the others",
+        ));
+    }
+    let all = a.int("shading_samples")?;
+    let emitter_samples = a.int_opt("emitter_samples")?.unwrap_or(all) as u32;
+    let bsdf_samples = a.int_opt("bsdf_samples")?.unwrap_or(all) as u32;
+    if emitter_samples + bsdf_samples == 0 {
+        return Err(SceneError::at(
+            &a.node().loc,
+            "integrator 'direct': found no emitter or BSDF samples; expected at least one",
+        ));
+    }
+    Ok(IntegratorSettings {
+        kind: IntegratorKind::Direct {
+            emitter_samples,
+            bsdf_samples,
+        },
+        hide_emitters: a.bool("hide_emitters")?,
+        ..IntegratorSettings::default()
+    })
+}
 
 /// Null surfaces crossed before giving up (a stack of them cannot be infinite).
 const MAX_NULL_CROSSINGS: u32 = 1024;

@@ -12,12 +12,26 @@
 //! its shadow ray itself; it hands it back with the contribution it carries if unoccluded, so
 //! that [`radiance`] (one path, tracing each ray at once) and the wavefront integrator
 //! ([`super::wave`], many paths, tracing rays in batches) share every line of the estimator.
+//!
+//! ## Parameters
+//!
+//! | parameter | type | default | unit | meaning |
+//! |---|---|---|---|---|
+//! | `max_depth` (0.6: `maxDepth`) | integer | -1 | segments | longest path (1: emitters seen directly, 2: direct light; −1: unbounded); between -1 and 1048576 |
+//! | `rr_depth` (0.6: `rrDepth`) | integer | 5 | segments | depth from which Russian roulette may end paths; between 0 and 1048576 |
+//! | `hide_emitters` (0.6: `hideEmitters`) | boolean | false | — | do not show emitters seen directly from the camera |
+//!
+//! Mitsuba's integrators that ophis does not have (`volpath`, `prb`, `ptracer`, 0.6's `bdpt`,
+//! `sppm`, …) render as this one, reading these parameters, with a warning.
+//!
+//! Known limits: no participating media outside `multilayered`.
 
 use crate::bsdf::{Bsdf, Material, TransportMode};
 use crate::light::LightSampleContext;
 use crate::math::{power_heuristic, Ray, Vec3};
+use crate::plugin::{declare, Args, Check, Param, SceneError};
 use crate::sampler::Sampler;
-use crate::scene::{IntegratorKind, Scene};
+use crate::scene::{IntegratorKind, IntegratorSettings, Scene};
 use crate::shape::SurfaceInteraction;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use crate::texture::TexCoord;
@@ -334,4 +348,38 @@ pub fn radiance(
         }
     }
     path.radiance()
+}
+
+// The `path` plugin: its declaration and loader (the estimator is above).
+
+/// Whether emitters seen directly are shown; `direct` reads it too.
+pub(crate) const HIDE_EMITTERS: Param = Param::bool("hide_emitters", false)
+    .v06("hideEmitters")
+    .doc("do not show emitters seen directly from the camera");
+
+declare!(PLUGIN: IntegratorSettings = Integrator "path" []
+    "unidirectional path tracing with next-event estimation and MIS"
+    [&[
+        Param::int("max_depth", -1)
+            .v06("maxDepth")
+            .check(Check::Range(-1.0, (1 << 20) as f64))
+            .unit("segments")
+            .doc("longest path (1: emitters seen directly, 2: direct light; −1: unbounded)"),
+        Param::int("rr_depth", 5)
+            .v06("rrDepth")
+            .check(Check::Range(0.0, (1 << 20) as f64))
+            .unit("segments")
+            .doc("depth from which Russian roulette may end paths"),
+        HIDE_EMITTERS,
+    ]] load);
+
+fn load(a: &mut Args, _: ()) -> Result<IntegratorSettings, SceneError> {
+    let max_depth = a.int("max_depth")?;
+    Ok(IntegratorSettings {
+        kind: IntegratorKind::Path,
+        max_depth: u32::try_from(max_depth).ok(),
+        rr_depth: a.int("rr_depth")? as u32,
+        hide_emitters: a.bool("hide_emitters")?,
+        aov: None,
+    })
 }

@@ -14,14 +14,12 @@
 //! supported; the power estimate π A L assumes a flat-ish emitter.
 
 use super::{Light, LightLiSample, LightSampleContext};
-use crate::plugin::{declare, Args, DefaultValue, Param, SceneError, SpectrumKind, Ty};
+use crate::plugin::{declare, Args, Param, SceneError};
 
-declare!(
-    /// The `area` plugin (the context is the index of the shape it is nested in).
-    pub(crate) PLUGIN: Vec<Light>, Option<u32> = Emitter "area" []
+declare!(PLUGIN: Vec<Light>, Option<u32> = Emitter "area" []
     "diffuse emission from a shape's front side (nested in the shape)"
     [&[
-        Param::new("radiance", Ty::Spectrum(SpectrumKind::Illuminant), DefaultValue::Float(1.0))
+        Param::emission("radiance")
             .unit("W·m⁻²·sr⁻¹·nm⁻¹")
             .doc("radiance leaving the front side (RGB and numbers: times D65)"),
     ]] load);

@@ -15,15 +15,14 @@
 //! Known limits: the visibility point is placed beyond the scene's bounding sphere, so
 //! [`super::Light::preprocess`] must be called first.
 
-use super::{point_at_infinity, Light, LightLiSample, LightSampleContext};
-use crate::plugin::{declare, Args, DefaultValue, Param, SceneError, SpectrumKind, Ty};
+use super::infinite::SceneSphere;
+use super::{Light, LightLiSample, LightSampleContext};
+use crate::plugin::{declare, Args, Param, SceneError};
 
-declare!(
-    /// The `constant` plugin.
-    pub(crate) PLUGIN: Vec<Light>, Option<u32> = Emitter "constant" []
+declare!(PLUGIN: Vec<Light>, Option<u32> = Emitter "constant" []
     "uniform environment light"
     [&[
-        Param::new("radiance", Ty::Spectrum(SpectrumKind::Illuminant), DefaultValue::Float(1.0))
+        Param::emission("radiance")
             .unit("W·m⁻²·sr⁻¹·nm⁻¹")
             .doc("radiance from every direction (RGB and numbers: times D65)"),
     ]] load);
@@ -44,8 +43,7 @@ const COSINE_SHARE: f32 = 0.9;
 #[derive(Clone, Debug)]
 pub struct ConstantLight {
     pub radiance: Spectrum,
-    center: Vec3,
-    radius: f32,
+    sphere: SceneSphere,
 }
 
 impl ConstantLight {
@@ -53,14 +51,12 @@ impl ConstantLight {
     pub fn new(radiance: Spectrum) -> ConstantLight {
         ConstantLight {
             radiance,
-            center: Vec3::ZERO,
-            radius: 1.0,
+            sphere: SceneSphere::default(),
         }
     }
 
     pub(crate) fn set_scene_sphere(&mut self, c: Vec3, r: f32) {
-        self.center = c;
-        self.radius = r;
+        self.sphere = SceneSphere::new(c, r);
     }
 
     pub(crate) fn sample_li(
@@ -88,7 +84,7 @@ impl ConstantLight {
             l: self.radiance.sample(wl),
             wi,
             pdf,
-            p_light: point_at_infinity(ctx.p, wi, self.center, self.radius),
+            p_light: self.sphere.beyond(ctx.p, wi),
             is_delta: false,
         })
     }
@@ -107,7 +103,11 @@ impl ConstantLight {
 
     /// Power falling on the scene's bounding sphere: π r² · 4π L.
     pub(crate) fn power(&self) -> f32 {
-        4.0 * PI * PI * self.radius * self.radius * super::spectrum_mean(&self.radiance)
+        4.0 * PI
+            * PI
+            * self.sphere.radius
+            * self.sphere.radius
+            * super::spectrum_mean(&self.radiance)
     }
 }
 

@@ -12,17 +12,16 @@
 //! Known limits: a delta light (next-event estimation only); the visibility point is placed
 //! beyond the scene's bounding sphere, so [`super::Light::preprocess`] must be called first.
 
-use super::{point_at_infinity, Light, LightLiSample, LightSampleContext};
+use super::infinite::SceneSphere;
+use super::{Light, LightLiSample, LightSampleContext};
 use crate::math::{Vec3, PI};
-use crate::plugin::{declare, Args, DefaultValue, Param, SceneError, SpectrumKind, Ty};
+use crate::plugin::{declare, Args, DefaultValue, Param, SceneError, Ty};
 use crate::spectrum::{SampledWavelengths, Spectrum};
 
-declare!(
-    /// The `directional` plugin.
-    pub(crate) PLUGIN: Vec<Light>, Option<u32> = Emitter "directional" []
+declare!(PLUGIN: Vec<Light>, Option<u32> = Emitter "directional" []
     "parallel light from infinity"
     [&[
-        Param::new("irradiance", Ty::Spectrum(SpectrumKind::Illuminant), DefaultValue::Float(1.0))
+        Param::emission("irradiance")
             .unit("W·m⁻²·nm⁻¹")
             .doc("irradiance on a surface facing the light (RGB and numbers: times D65)"),
         Param::new("direction", Ty::Vector, DefaultValue::Derived("`to_world` applied to +z"))
@@ -48,8 +47,7 @@ pub struct DirectionalLight {
     /// Unit direction in which the light travels.
     pub direction: Vec3,
     pub irradiance: Spectrum,
-    center: Vec3,
-    radius: f32,
+    sphere: SceneSphere,
 }
 
 impl DirectionalLight {
@@ -59,14 +57,12 @@ impl DirectionalLight {
         (d != Vec3::ZERO).then_some(DirectionalLight {
             direction: d,
             irradiance,
-            center: Vec3::ZERO,
-            radius: 1.0,
+            sphere: SceneSphere::default(),
         })
     }
 
     pub(crate) fn set_scene_sphere(&mut self, c: Vec3, r: f32) {
-        self.center = c;
-        self.radius = r;
+        self.sphere = SceneSphere::new(c, r);
     }
 
     pub(crate) fn sample_li(
@@ -79,14 +75,14 @@ impl DirectionalLight {
             l: self.irradiance.sample(wl),
             wi,
             pdf: 1.0,
-            p_light: point_at_infinity(ctx.p, wi, self.center, self.radius),
+            p_light: self.sphere.beyond(ctx.p, wi),
             is_delta: true,
         })
     }
 
     /// Power through the scene's bounding disk.
     pub(crate) fn power(&self) -> f32 {
-        PI * self.radius * self.radius * super::spectrum_mean(&self.irradiance)
+        PI * self.sphere.radius * self.sphere.radius * super::spectrum_mean(&self.irradiance)
     }
 }
 

@@ -73,7 +73,7 @@ impl Distribution1D {
     }
 
     /// Samples x ∈ [0, 1); returns (x, density at x, cell index).
-    pub fn sample_continuous(&self, u: f32) -> (f32, f32, usize) {
+    pub(crate) fn sample_continuous(&self, u: f32) -> (f32, f32, usize) {
         let u = u.clamp(0.0, ONE_MINUS_EPSILON);
         let i = self.find(u);
         let (c0, c1) = (self.cdf[i], self.cdf[i + 1]);
@@ -83,7 +83,7 @@ impl Distribution1D {
     }
 
     /// Samples a cell; returns (index, probability, `u` re-stretched to [0, 1) within the cell).
-    pub fn sample_discrete(&self, u: f32) -> (usize, f32, f32) {
+    pub(crate) fn sample_discrete(&self, u: f32) -> (usize, f32, f32) {
         let u = u.clamp(0.0, ONE_MINUS_EPSILON);
         let i = self.find(u);
         let (c0, c1) = (self.cdf[i], self.cdf[i + 1]);
@@ -96,7 +96,7 @@ impl Distribution1D {
     }
 
     /// Density of [`Self::sample_continuous`] at `x` (0 outside [0, 1]).
-    pub fn pdf(&self, x: f32) -> f32 {
+    pub(crate) fn pdf(&self, x: f32) -> f32 {
         if !(0.0..=1.0).contains(&x) {
             return 0.0;
         }
@@ -105,7 +105,7 @@ impl Distribution1D {
     }
 
     /// Probability of [`Self::sample_discrete`] returning cell `i`.
-    pub fn pmf(&self, i: usize) -> f32 {
+    pub(crate) fn pmf(&self, i: usize) -> f32 {
         match self.func.get(i) {
             Some(&f) => f / (self.integral * self.count() as f32),
             None => 0.0,
@@ -143,7 +143,7 @@ impl Distribution2D {
     }
 
     /// Density of [`Self::sample`] at `p`.
-    pub fn pdf(&self, p: Vec2) -> f32 {
+    pub(crate) fn pdf(&self, p: Vec2) -> f32 {
         if !(0.0..=1.0).contains(&p.y) {
             return 0.0;
         }
@@ -170,7 +170,7 @@ pub struct LightSampler {
 }
 
 /// The share of the probability spread evenly over the emitting lights.
-pub const UNIFORM_SHARE: f64 = 0.5;
+pub(crate) const UNIFORM_SHARE: f64 = 0.5;
 
 impl LightSampler {
     /// A sampler for lights of the given powers.
@@ -204,7 +204,7 @@ impl LightSampler {
     }
 
     /// Probability that [`Self::sample`] picks light `i`.
-    pub fn pmf(&self, i: usize) -> f32 {
+    pub(crate) fn pmf(&self, i: usize) -> f32 {
         self.dist.as_ref().map_or(0.0, |d| d.pmf(i))
     }
 }

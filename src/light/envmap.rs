@@ -41,16 +41,15 @@
 //! without being accounted for).
 
 use super::distribution::Distribution2D;
-use super::{point_at_infinity, Light, LightLiSample, LightSampleContext};
+use super::infinite::{latlong_pdf, latlong_sample, SceneSphere};
+use super::{Light, LightLiSample, LightSampleContext};
 use crate::image_io::{read_image, RgbImage};
 use crate::math::{Transform, Vec2, Vec3, PI};
 use crate::plugin::{declare, Args, Check, DefaultValue, Param, SceneError, Ty};
 use crate::spectrum::cie::d65;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
 
-declare!(
-    /// The `envmap` plugin.
-    pub(crate) PLUGIN: Vec<Light>, Option<u32> = Emitter "envmap" []
+declare!(PLUGIN: Vec<Light>, Option<u32> = Emitter "envmap" []
     "environment light from a latitude–longitude image"
     [&[
         Param::new("filename", Ty::String, DefaultValue::Required)
@@ -99,8 +98,7 @@ pub struct EnvMapLight {
     to_local: Transform,
     /// ∫ luminance dω over the sphere (times `scale`), for the power estimate.
     luminance_integral: f32,
-    center: Vec3,
-    radius: f32,
+    sphere: SceneSphere,
 }
 
 /// Rec. 709 luminance of linear sRGB.
@@ -109,7 +107,7 @@ fn luminance(c: [f32; 3]) -> f32 {
 }
 
 /// Direction in the map's frame → (u, v) ∈ [0, 1]².
-pub fn direction_to_uv(d: Vec3) -> Vec2 {
+pub(crate) fn direction_to_uv(d: Vec3) -> Vec2 {
     let mut u = d.x.atan2(-d.z) * (0.5 / PI);
     if u < 0.0 {
         u += 1.0;
@@ -118,7 +116,7 @@ pub fn direction_to_uv(d: Vec3) -> Vec2 {
 }
 
 /// (u, v) → unit direction in the map's frame.
-pub fn uv_to_direction(uv: Vec2) -> Vec3 {
+pub(crate) fn uv_to_direction(uv: Vec2) -> Vec3 {
     let (sin_phi, cos_phi) = (2.0 * PI * uv.x).sin_cos();
     let (sin_theta, cos_theta) = (PI * uv.y).sin_cos();
     Vec3::new(sin_phi * sin_theta, cos_theta, -cos_phi * sin_theta)
@@ -203,14 +201,12 @@ impl EnvMapLight {
             to_world,
             to_local: to_world.inverse(),
             luminance_integral: (integral * scale as f64) as f32,
-            center: Vec3::ZERO,
-            radius: 1.0,
+            sphere: SceneSphere::default(),
         }
     }
 
     pub(crate) fn set_scene_sphere(&mut self, c: Vec3, r: f32) {
-        self.center = c;
-        self.radius = r;
+        self.sphere = SceneSphere::new(c, r);
     }
 
     /// Half a texel in u: the sampling grid's offset from the texel grid.
@@ -260,7 +256,7 @@ impl EnvMapLight {
     }
 
     /// Radiance seen along the escaping direction `dir` (world space).
-    pub fn le(&self, dir: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
+    pub(crate) fn le(&self, dir: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
         let d = self.local(dir);
         if d == Vec3::ZERO {
             return SampledSpectrum::ZERO;
@@ -269,17 +265,13 @@ impl EnvMapLight {
     }
 
     /// Solid-angle density of [`Self::sample_li`] producing the world direction `wi`.
-    pub fn pdf_li(&self, wi: Vec3) -> f32 {
-        let d = self.local(wi);
-        let sin_theta = (d.x * d.x + d.z * d.z).sqrt();
-        if sin_theta.is_nan() || sin_theta <= 0.0 {
-            return 0.0;
-        }
-        let uv = direction_to_uv(d);
-        let u = (uv.x - self.half_texel())
-            .rem_euclid(1.0)
-            .min(crate::math::ONE_MINUS_EPSILON);
-        self.dist.pdf(Vec2::new(u, uv.y)) / (2.0 * PI * PI * sin_theta)
+    pub(crate) fn pdf_li(&self, wi: Vec3) -> f32 {
+        latlong_pdf(self.local(wi), |uv| {
+            let u = (uv.x - self.half_texel())
+                .rem_euclid(1.0)
+                .min(crate::math::ONE_MINUS_EPSILON);
+            self.dist.pdf(Vec2::new(u, uv.y))
+        })
     }
 
     pub(crate) fn sample_li(
@@ -290,29 +282,13 @@ impl EnvMapLight {
     ) -> Option<LightLiSample> {
         let (cell, _, _) = self.dist.sample(u);
         let uv = Vec2::new((cell.x + self.half_texel()).rem_euclid(1.0), cell.y);
-        let wi = self
-            .to_world
-            .vector(uv_to_direction(uv))
-            .normalize_or_zero();
-        // Radiance and density are re-derived from the direction, so that they agree exactly
-        // with what `le` and `pdf_li` report for it.
-        let pdf = self.pdf_li(wi);
-        if !(pdf > 0.0 && pdf.is_finite()) {
-            return None;
-        }
-        let l = self.le(wi, wl);
-        Some(LightLiSample {
-            l,
-            wi,
-            pdf,
-            p_light: point_at_infinity(ctx.p, wi, self.center, self.radius),
-            is_delta: false,
-        })
+        let (pdf_li, le) = (|wi| self.pdf_li(wi), |wi| self.le(wi, wl));
+        latlong_sample(ctx, &self.to_world, uv, &self.sphere, pdf_li, le)
     }
 
     /// Power falling on the scene's bounding sphere: π r² ∫ luminance dω.
     pub(crate) fn power(&self) -> f32 {
-        PI * self.radius * self.radius * self.luminance_integral
+        PI * self.sphere.radius * self.sphere.radius * self.luminance_integral
     }
 }
 

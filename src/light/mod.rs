@@ -11,6 +11,7 @@ pub mod constant;
 pub mod directional;
 pub mod distribution;
 pub mod envmap;
+pub(crate) mod infinite;
 pub mod point;
 pub mod sunsky;
 

@@ -14,15 +14,13 @@
 
 use super::{Light, LightLiSample, LightSampleContext};
 use crate::math::Vec3;
-use crate::plugin::{declare, Args, DefaultValue, Param, SceneError, SpectrumKind, Ty};
+use crate::plugin::{declare, Args, DefaultValue, Param, SceneError, Ty};
 use crate::spectrum::{SampledWavelengths, Spectrum};
 
-declare!(
-    /// The `point` plugin.
-    pub(crate) PLUGIN: Vec<Light>, Option<u32> = Emitter "point" []
+declare!(PLUGIN: Vec<Light>, Option<u32> = Emitter "point" []
     "isotropic point light"
     [&[
-        Param::new("intensity", Ty::Spectrum(SpectrumKind::Illuminant), DefaultValue::Float(1.0))
+        Param::emission("intensity")
             .unit("W·sr⁻¹·nm⁻¹")
             .doc("radiant intensity (RGB and numbers: times D65)"),
         Param::new("position", Ty::Point, DefaultValue::Derived("`to_world`'s translation"))

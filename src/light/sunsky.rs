@@ -46,14 +46,14 @@
 //! 1999 model, not Hosek & Wilkie's 2012 one that Mitsuba 0.6 used (colours and the circumsolar
 //! region differ somewhat, notably at low sun).
 
-pub mod preetham;
+pub(crate) mod preetham;
 mod sky;
-pub mod solar;
+pub(crate) mod solar;
 mod sun;
 
 pub use sky::SkyLight;
-pub use solar::{solar_position, DateTime, SolarPosition};
-pub use sun::{SunLight, SunSpectrum, SUN_ANGULAR_RADIUS_DEG};
+pub(crate) use solar::{solar_position, DateTime};
+pub use sun::SunLight;
 
 use super::Light;
 use crate::math::{Transform, Vec3};
@@ -129,19 +129,13 @@ const SUN_RADIUS: &[Param] = &[Param::float("sun_radius_scale", 1.0)
     .v06("sunRadiusScale")
     .doc("scales the disk's angular radius (0.2667°) keeping its power; 0: a directional light")];
 
-declare!(
-    /// The `sunsky` plugin: two lights, sun and sky.
-    pub(crate) PLUGIN: Vec<Light>, Option<u32> = Emitter "sunsky" []
+declare!(PLUGIN: Vec<Light>, Option<u32> = Emitter "sunsky" []
     "Preetham's clear sky and the sun, by direction or by place and time"
     [PLACE, SUNSKY_SCALES, SUN_RADIUS] load_sunsky);
-declare!(
-    /// The `sun` plugin.
-    pub(crate) SUN_PLUGIN: Vec<Light>, Option<u32> = Emitter "sun" []
+declare!(SUN_PLUGIN: Vec<Light>, Option<u32> = Emitter "sun" []
     "the solar disk of `sunsky` alone"
     [PLACE, SCALE, SUN_RADIUS] load_sun);
-declare!(
-    /// The `sky` plugin.
-    pub(crate) SKY_PLUGIN: Vec<Light>, Option<u32> = Emitter "sky" []
+declare!(SKY_PLUGIN: Vec<Light>, Option<u32> = Emitter "sky" []
     "the clear sky of `sunsky` alone"
     [PLACE, SCALE] load_sky);
 
@@ -215,7 +209,7 @@ fn daylight(a: &mut Args, with_sun: bool, with_sky: bool) -> Result<Vec<Light>, 
 
 /// Where the sun is.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum SunPlacement {
+pub(crate) enum SunPlacement {
     /// A direction towards the sun, world space.
     Direction(Vec3),
     /// A place (degrees) and a local time.
@@ -228,7 +222,7 @@ pub enum SunPlacement {
 
 /// Everything `sunsky`, `sun` and `sky` share.
 #[derive(Clone, Copy, Debug)]
-pub struct SunSkyParams {
+pub(crate) struct SunSkyParams {
     pub turbidity: f32,
     pub placement: SunPlacement,
     pub sun_scale: f32,
@@ -239,7 +233,7 @@ pub struct SunSkyParams {
 
 /// The lights of one daylight emitter.
 #[derive(Clone, Debug)]
-pub struct SunSky {
+pub(crate) struct SunSky {
     pub sun: Option<SunLight>,
     pub sky: Option<SkyLight>,
     /// Unit direction towards the sun in the sky's frame (+y up).
@@ -283,7 +277,7 @@ impl SunSky {
     }
 
     /// Whether the sun is above the horizon (otherwise both parts are black).
-    pub fn sun_is_up(&self) -> bool {
+    pub(crate) fn sun_is_up(&self) -> bool {
         self.sun_local.y > 0.0
     }
 }

@@ -17,27 +17,27 @@ impl Default for Bounds3 {
 
 impl Bounds3 {
     /// The empty box.
-    pub const EMPTY: Bounds3 = Bounds3 {
+    pub(crate) const EMPTY: Bounds3 = Bounds3 {
         min: Vec3::splat(f32::INFINITY),
         max: Vec3::splat(f32::NEG_INFINITY),
     };
 
     /// The box holding one point.
     #[inline]
-    pub fn from_point(p: Vec3) -> Bounds3 {
+    pub(crate) fn from_point(p: Vec3) -> Bounds3 {
         Bounds3 { min: p, max: p }
     }
 
     /// Grows the box to include `p`.
     #[inline]
-    pub fn grow(&mut self, p: Vec3) {
+    pub(crate) fn grow(&mut self, p: Vec3) {
         self.min = self.min.min(p);
         self.max = self.max.max(p);
     }
 
     /// The union of two boxes.
     #[inline]
-    pub fn union(&self, b: &Bounds3) -> Bounds3 {
+    pub(crate) fn union(&self, b: &Bounds3) -> Bounds3 {
         Bounds3 {
             min: self.min.min(b.min),
             max: self.max.max(b.max),
@@ -54,35 +54,6 @@ impl Bounds3 {
     #[inline]
     pub fn center(&self) -> Vec3 {
         0.5 * (self.min + self.max)
-    }
-
-    /// Edge lengths.
-    #[inline]
-    pub fn extent(&self) -> Vec3 {
-        self.max - self.min
-    }
-
-    /// Surface area (0 for an empty box).
-    #[inline]
-    pub fn surface_area(&self) -> f32 {
-        if self.is_empty() {
-            return 0.0;
-        }
-        let e = self.extent();
-        2.0 * (e.x * e.y + e.y * e.z + e.z * e.x)
-    }
-
-    /// Index of the longest axis.
-    #[inline]
-    pub fn max_axis(&self) -> usize {
-        let e = self.extent();
-        if e.x >= e.y && e.x >= e.z {
-            0
-        } else if e.y >= e.z {
-            1
-        } else {
-            2
-        }
     }
 
     /// Slab test against a ray given by origin and reciprocal direction; returns the entry and
@@ -102,7 +73,7 @@ impl Bounds3 {
     }
 
     /// Bounding sphere (centre, radius).
-    pub fn bounding_sphere(&self) -> (Vec3, f32) {
+    pub(crate) fn bounding_sphere(&self) -> (Vec3, f32) {
         if self.is_empty() {
             return (Vec3::ZERO, 0.0);
         }

@@ -30,7 +30,7 @@ impl Frame {
 
     /// World → local.
     #[inline]
-    pub fn to_local(&self, v: Vec3) -> Vec3 {
+    pub(crate) fn to_local(self, v: Vec3) -> Vec3 {
         Vec3::new(v.dot(self.s), v.dot(self.t), v.dot(self.n))
     }
 

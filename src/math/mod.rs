@@ -7,7 +7,7 @@ pub mod rng;
 pub mod transform;
 pub mod warp;
 
-pub use bounds::Bounds3;
+pub(crate) use bounds::Bounds3;
 pub use frame::Frame;
 pub use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
 pub use ray::{offset_ray_origin, Ray};
@@ -15,45 +15,39 @@ pub use rng::Pcg32;
 pub use transform::Transform;
 
 /// π as f32.
-pub const PI: f32 = std::f32::consts::PI;
+pub(crate) const PI: f32 = std::f32::consts::PI;
 /// 1/π.
-pub const INV_PI: f32 = std::f32::consts::FRAC_1_PI;
+pub(crate) const INV_PI: f32 = std::f32::consts::FRAC_1_PI;
 /// 1/(2π).
-pub const INV_2PI: f32 = 0.5 * std::f32::consts::FRAC_1_PI;
+pub(crate) const INV_2PI: f32 = 0.5 * std::f32::consts::FRAC_1_PI;
 /// 1/(4π).
-pub const INV_4PI: f32 = 0.25 * std::f32::consts::FRAC_1_PI;
+pub(crate) const INV_4PI: f32 = 0.25 * std::f32::consts::FRAC_1_PI;
 
 /// Largest f32 strictly below 1, so that samples stay in [0, 1).
-pub const ONE_MINUS_EPSILON: f32 = 1.0 - f32::EPSILON / 2.0;
+pub(crate) const ONE_MINUS_EPSILON: f32 = 1.0 - f32::EPSILON / 2.0;
 
 /// sqrt that returns 0 for (slightly) negative arguments produced by rounding.
 #[inline]
-pub fn safe_sqrt(x: f32) -> f32 {
+pub(crate) fn safe_sqrt(x: f32) -> f32 {
     x.max(0.0).sqrt()
 }
 
 /// acos clamped to the valid domain.
 #[inline]
-pub fn safe_acos(x: f32) -> f32 {
+pub(crate) fn safe_acos(x: f32) -> f32 {
     x.clamp(-1.0, 1.0).acos()
-}
-
-/// Linear interpolation a + t (b − a).
-#[inline]
-pub fn lerp(t: f32, a: f32, b: f32) -> f32 {
-    a + t * (b - a)
 }
 
 /// Reflects `w` about the normal `n` (both pointing away from the surface).
 #[inline]
-pub fn reflect(w: Vec3, n: Vec3) -> Vec3 {
+pub(crate) fn reflect(w: Vec3, n: Vec3) -> Vec3 {
     2.0 * w.dot(n) * n - w
 }
 
 /// Refracts `wi` (pointing away from the surface, on the side of `n`) through an interface with
 /// relative index `eta` = n_transmitted / n_incident. Returns `None` on total internal reflection.
 #[inline]
-pub fn refract(wi: Vec3, n: Vec3, eta: f32) -> Option<Vec3> {
+pub(crate) fn refract(wi: Vec3, n: Vec3, eta: f32) -> Option<Vec3> {
     let cos_i = n.dot(wi);
     let sin2_i = (1.0 - cos_i * cos_i).max(0.0);
     let sin2_t = sin2_i / (eta * eta);
@@ -80,9 +74,10 @@ pub fn power_heuristic_lanes<F: crate::simd::Float>(f_pdf: F, g_pdf: F) -> F {
     F::select(f.eq(F::splat(f32::INFINITY)), F::splat(1.0), w)
 }
 
+#[cfg(test)]
 /// Spherical direction from angles (z-up).
 #[inline]
-pub fn spherical_direction(sin_theta: f32, cos_theta: f32, phi: f32) -> Vec3 {
+pub(crate) fn spherical_direction(sin_theta: f32, cos_theta: f32, phi: f32) -> Vec3 {
     let (s, c) = phi.sin_cos();
     Vec3::new(
         sin_theta.clamp(-1.0, 1.0) * c,

@@ -62,7 +62,7 @@ impl Transform {
 
     /// Camera-to-world "look at" transform with Mitsuba's convention: local +z looks at
     /// `target`, local +y is `up` made orthogonal, local +x = up × dir.
-    pub fn look_at(origin: Vec3, target: Vec3, up: Vec3) -> Option<Transform> {
+    pub(crate) fn look_at(origin: Vec3, target: Vec3, up: Vec3) -> Option<Transform> {
         let dir = (target - origin).normalize_or_zero();
         if dir == Vec3::ZERO {
             return None;
@@ -91,7 +91,7 @@ impl Transform {
     }
 
     /// The inverse transform.
-    pub fn inverse(&self) -> Transform {
+    pub(crate) fn inverse(&self) -> Transform {
         Transform {
             m: self.inv,
             inv: self.m,
@@ -145,12 +145,12 @@ impl Transform {
     }
 
     /// Whether the transform flips handedness (negative determinant).
-    pub fn swaps_handedness(&self) -> bool {
+    pub(crate) fn swaps_handedness(&self) -> bool {
         Mat3::from_mat4(self.m).determinant() < 0.0
     }
 
     /// Whether this is (numerically) the identity.
-    pub fn is_identity(&self) -> bool {
+    pub(crate) fn is_identity(&self) -> bool {
         self.m.abs_diff_eq(Mat4::IDENTITY, 1e-7)
     }
 }

@@ -61,18 +61,9 @@ pub fn cosine_hemisphere_pdf<F: Float>(z: F) -> F {
     z.max(F::splat(0.0)) * F::splat(INV_PI)
 }
 
-/// Uniform direction on the upper hemisphere.
-#[inline]
-pub fn square_to_uniform_hemisphere(u: Vec2) -> Vec3 {
-    let z = u.x;
-    let r = safe_sqrt(1.0 - z * z);
-    let phi = 2.0 * PI * u.y;
-    Vec3::new(r * phi.cos(), r * phi.sin(), z)
-}
-
 /// Uniform direction on the unit sphere.
 #[inline]
-pub fn square_to_uniform_sphere(u: Vec2) -> Vec3 {
+pub(crate) fn square_to_uniform_sphere(u: Vec2) -> Vec3 {
     let z = 1.0 - 2.0 * u.x;
     let r = safe_sqrt(1.0 - z * z);
     let phi = 2.0 * PI * u.y;
@@ -81,13 +72,14 @@ pub fn square_to_uniform_sphere(u: Vec2) -> Vec3 {
 
 /// Density of [`square_to_uniform_sphere`].
 #[inline]
-pub fn square_to_uniform_sphere_pdf() -> f32 {
+pub(crate) fn square_to_uniform_sphere_pdf() -> f32 {
     INV_4PI
 }
 
+#[cfg(test)]
 /// Uniform direction in the cone around +z with cos(half-angle) = `cos_max`.
 #[inline]
-pub fn square_to_uniform_cone(u: Vec2, cos_max: f32) -> Vec3 {
+pub(crate) fn square_to_uniform_cone(u: Vec2, cos_max: f32) -> Vec3 {
     let cos_t = (1.0 - u.x) + u.x * cos_max;
     let sin_t = safe_sqrt(1.0 - cos_t * cos_t);
     let phi = 2.0 * PI * u.y;

@@ -29,20 +29,20 @@ use crate::render::{tile_spp, TILE};
 /// Metadata key of the total sample count.
 pub const KEY_SAMPLES: &str = "ophis.samples";
 /// Metadata key of the complete samples per pixel.
-pub const KEY_SPP: &str = "ophis.spp";
+pub(crate) const KEY_SPP: &str = "ophis.spp";
 /// Metadata key of the per-tile samples per pixel.
 pub const KEY_TILE_SPP: &str = "ophis.tile_spp";
 /// Metadata key of the seed (a comma-separated list of seeds in a merged file).
-pub const KEY_SEED: &str = "ophis.seed";
+pub(crate) const KEY_SEED: &str = "ophis.seed";
 /// Header key listing the AOV channels of an `aov` render (which merging would drop).
 pub const KEY_AOVS: &str = "ophis.aovs";
 /// Metadata key of the readable scene name (file name and `-D` values).
-pub const KEY_SCENE: &str = "ophis.scene";
+pub(crate) const KEY_SCENE: &str = "ophis.scene";
 /// Metadata key of the scene hash ([`SceneIdentity::hash_hex`]).
-pub const KEY_SCENE_HASH: &str = "ophis.scene_hash";
+pub(crate) const KEY_SCENE_HASH: &str = "ophis.scene_hash";
 
 /// Run-length encodes a list of per-tile counts.
-pub fn encode_tile_spp(counts: &[u64]) -> String {
+pub(crate) fn encode_tile_spp(counts: &[u64]) -> String {
     let mut out: Vec<String> = Vec::new();
     let mut i = 0;
     while i < counts.len() {
@@ -57,7 +57,7 @@ pub fn encode_tile_spp(counts: &[u64]) -> String {
 }
 
 /// Per-tile sample counts of a film, row-major.
-pub fn film_tile_spp(film: &Film) -> Vec<u64> {
+pub(crate) fn film_tile_spp(film: &Film) -> Vec<u64> {
     let mut v = Vec::new();
     for ty in 0..film.height.div_ceil(TILE) {
         for tx in 0..film.width.div_ceil(TILE) {

@@ -39,7 +39,7 @@ use num_complex::Complex64 as C;
 
 /// One layer at one wavelength: n² and the vacuum wave number times thickness, 2π d/λ.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct LayerAt {
+pub(crate) struct LayerAt {
     pub n2: C,
     pub kd: f64,
 }
@@ -55,7 +55,7 @@ pub struct Amplitudes {
 
 /// A 2×2 complex matrix [[a, b], [c, d]] and a power-of-two exponent: value = 2^exp · M.
 #[derive(Clone, Copy, Debug)]
-pub struct Scaled2 {
+pub(crate) struct Scaled2 {
     pub m: [C; 4],
     pub exp: i32,
 }
@@ -73,7 +73,7 @@ impl Scaled2 {
 
     /// self · o, renormalised when the entries leave [2^-400, 2^400].
     #[inline]
-    pub fn mul(&self, o: &Scaled2) -> Scaled2 {
+    pub(crate) fn mul(&self, o: &Scaled2) -> Scaled2 {
         let [a, b, c, d] = self.m;
         let [e, f, g, h] = o.m;
         let mut out = Scaled2 {
@@ -82,22 +82,6 @@ impl Scaled2 {
         };
         out.renormalise();
         out
-    }
-
-    /// self^n by repeated squaring.
-    pub fn pow(&self, mut n: u32) -> Scaled2 {
-        let mut base = *self;
-        let mut acc = Scaled2::IDENTITY;
-        while n > 0 {
-            if n & 1 == 1 {
-                acc = acc.mul(&base);
-            }
-            n >>= 1;
-            if n > 0 {
-                base = base.mul(&base);
-            }
-        }
-        acc
     }
 
     #[inline]
@@ -119,7 +103,7 @@ impl Scaled2 {
 
 /// q = √(n² − σ²) on the branch Im q ≥ 0 (Re q ≥ 0 when real).
 #[inline]
-pub fn normal_q(n2: C, sigma2: f64) -> C {
+pub(crate) fn normal_q(n2: C, sigma2: f64) -> C {
     let q = (n2 - sigma2).sqrt();
     if q.im < 0.0 {
         -q
@@ -143,7 +127,7 @@ fn expm1_over_z(z: C) -> C {
 
 /// The scaled matrices e^{iδ}M of one layer for s and p, and δ itself.
 #[inline]
-pub fn layer_matrices(layer: LayerAt, sigma2: f64) -> (Scaled2, Scaled2, C) {
+pub(crate) fn layer_matrices(layer: LayerAt, sigma2: f64) -> (Scaled2, Scaled2, C) {
     let q = normal_q(layer.n2, sigma2);
     let q2 = layer.n2 - sigma2;
     let delta = q * layer.kd;
@@ -163,14 +147,14 @@ pub fn layer_matrices(layer: LayerAt, sigma2: f64) -> (Scaled2, Scaled2, C) {
 }
 
 /// The stack's total scaled matrices for s and p, and the total phase Σδ.
-pub struct StackMatrices {
+pub(crate) struct StackMatrices {
     pub s: Scaled2,
     pub p: Scaled2,
     pub phase: C,
 }
 
 /// Multiplies the layers in the order given (the first is next to the incident medium).
-pub fn product(layers: impl Iterator<Item = LayerAt>, sigma2: f64) -> StackMatrices {
+pub(crate) fn product(layers: impl Iterator<Item = LayerAt>, sigma2: f64) -> StackMatrices {
     let mut out = StackMatrices {
         s: Scaled2::IDENTITY,
         p: Scaled2::IDENTITY,
@@ -237,7 +221,7 @@ pub fn finish(
 }
 
 /// The whole computation for one wavelength: layers in order from the incident medium.
-pub fn stack_rt(
+pub(crate) fn stack_rt(
     n_inc: f64,
     cos_inc: f64,
     layers: impl Iterator<Item = LayerAt>,

@@ -78,22 +78,7 @@ impl CM4 {
         }
     }
 
-    #[inline(always)]
-    fn pow(&self, mut n: u32) -> CM4 {
-        let (mut base, mut acc) = (*self, CM4::I);
-        while n > 0 {
-            if n & 1 == 1 {
-                acc = acc.mul(&base);
-                acc.renormalise();
-            }
-            n >>= 1;
-            if n > 0 {
-                base = base.mul(&base);
-                base.renormalise();
-            }
-        }
-        acc
-    }
+    super::pow_by_squaring!();
 
     #[inline(always)]
     fn renormalise(&mut self) {
@@ -233,7 +218,7 @@ fn finish(m: &CM4, y0: &F4, y: &Z4, atten: &F4) -> (F4, F4) {
 /// (R_s, R_p, T_s, T_p) of any stack (see the module doc); arguments as
 /// [`super::realmat4::rt_real`].
 #[inline(always)]
-pub fn rt_complex(
+pub(crate) fn rt_complex(
     layers: &[LayerLanes],
     groups: &[Group],
     rev: bool,

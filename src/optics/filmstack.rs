@@ -43,9 +43,9 @@ use num_complex::Complex64 as C;
 use std::fmt;
 
 /// Largest number of layers once periodic groups are written out.
-pub const MAX_LAYERS: usize = 4096;
+pub(crate) const MAX_LAYERS: usize = 4096;
 /// Largest repeat count of a periodic group.
-pub const MAX_REPEAT: u32 = 4096;
+pub(crate) const MAX_REPEAT: u32 = 4096;
 
 /// One homogeneous layer.
 #[derive(Clone, Debug, PartialEq)]
@@ -70,7 +70,7 @@ pub enum StackItem {
 
 impl StackItem {
     /// The item's layers written once (a period once, not `count` times).
-    pub fn period(&self) -> &[Layer] {
+    pub(crate) fn period(&self) -> &[Layer] {
         match self {
             StackItem::Layer(l) => std::slice::from_ref(l),
             StackItem::Periodic { period, .. } => period,
@@ -236,7 +236,7 @@ impl FilmStack {
     }
 
     /// [`FilmStack::rt`] by the characteristic-matrix method whatever the number of layers.
-    pub fn rt_matrix(&self, cos_theta: f64, lambda_nm: f64, from_inside: bool) -> FilmRt {
+    pub(crate) fn rt_matrix(&self, cos_theta: f64, lambda_nm: f64, from_inside: bool) -> FilmRt {
         self.matrix(cos_theta, lambda_nm, from_inside).0
     }
 

@@ -24,7 +24,7 @@ use std::fmt;
 use std::sync::Arc;
 
 /// Cauchy coefficients of keratin (Leertouwer, Wilts & Stavenga 2011): A, and B in nm².
-pub const KERATIN_CAUCHY: (f64, f64) = (1.532, 5890.0);
+pub(crate) const KERATIN_CAUCHY: (f64, f64) = (1.532, 5890.0);
 
 /// A tabulated n(λ), k(λ) on one wavelength grid.
 #[derive(Clone, Debug, PartialEq)]

@@ -26,7 +26,7 @@ use super::simd4::{csqrt_up, sincos4, unit, zip4, F4};
 
 /// One distinct layer at the four wavelengths.
 #[derive(Clone, Copy, Debug, Default)]
-pub struct LayerLanes {
+pub(crate) struct LayerLanes {
     /// n² (real and imaginary parts).
     pub n2: F4,
     pub n2_im: F4,
@@ -41,7 +41,7 @@ pub struct LayerLanes {
 
 /// A run of `len` layers from `start`, repeated `count` times.
 #[derive(Clone, Copy, Debug, Default)]
-pub struct Group {
+pub(crate) struct Group {
     pub start: u32,
     pub len: u32,
     pub count: u32,
@@ -49,7 +49,7 @@ pub struct Group {
 
 /// The exit medium at the four wavelengths: n² and 1/n².
 #[derive(Clone, Copy, Debug, Default)]
-pub struct ExitLanes {
+pub(crate) struct ExitLanes {
     pub n2: F4,
     pub n2_im: F4,
     pub inv_n2: F4,
@@ -59,7 +59,7 @@ pub struct ExitLanes {
 
 /// [[a, ib], [ic, d]] · 2^e per lane.
 #[derive(Clone, Copy)]
-pub struct RealM {
+pub(crate) struct RealM {
     pub a: F4,
     pub b: F4,
     pub c: F4,
@@ -78,7 +78,7 @@ impl RealM {
 
     /// self · o.
     #[inline(always)]
-    pub fn mul(&self, o: &RealM) -> RealM {
+    pub(crate) fn mul(&self, o: &RealM) -> RealM {
         let mut r = RealM::I;
         for i in 0..4 {
             r.a[i] = self.a[i] * o.a[i] - self.b[i] * o.c[i];
@@ -102,27 +102,11 @@ impl RealM {
         }
     }
 
-    /// self^n by repeated squaring.
-    #[inline(always)]
-    pub fn pow(&self, mut n: u32) -> RealM {
-        let (mut base, mut acc) = (*self, RealM::I);
-        while n > 0 {
-            if n & 1 == 1 {
-                acc = acc.mul(&base);
-                acc.renormalise();
-            }
-            n >>= 1;
-            if n > 0 {
-                base = base.mul(&base);
-                base.renormalise();
-            }
-        }
-        acc
-    }
+    super::pow_by_squaring!(pub(crate));
 
     /// Keeps the entries below 2^400 (lanes whose product grew are divided by a power of two).
     #[inline(always)]
-    pub fn renormalise(&mut self) {
+    pub(crate) fn renormalise(&mut self) {
         const BIG: f64 = 2.58e120; // ≈ 2^400
         let mut any = false;
         for i in 0..4 {
@@ -208,7 +192,7 @@ fn entries(l: &LayerLanes, sigma2: &F4) -> Option<[F4; 5]> {
 /// index squared `sigma2`; groups in the order light meets them (`rev`: reversed, for light
 /// from the base). `None` if the wave does not propagate in some layer (use the complex path).
 #[inline(always)]
-pub fn rt_real(
+pub(crate) fn rt_real(
     layers: &[LayerLanes],
     groups: &[Group],
     rev: bool,

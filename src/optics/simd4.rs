@@ -15,10 +15,10 @@
 //! 2^-1022 flush to 0 (the film stack only needs e^x for attenuation, x ≤ 0).
 
 /// Four lanes.
-pub type F4 = [f64; 4];
+pub(crate) type F4 = [f64; 4];
 
 /// |x| above which [`sincos4`] hands a lane to the C library (2^19·π/2: |j| < 2^20 with margin).
-pub const SINCOS_LIMIT: f64 = 823_549.6;
+pub(crate) const SINCOS_LIMIT: f64 = 823_549.6;
 
 const FRAC_2_PI: f64 = std::f64::consts::FRAC_2_PI;
 // π/2 = P1 + P2 + P3 (+ 1e-37): P1, P2 have 33 significant bits.
@@ -46,7 +46,7 @@ const EXP_C: [f64; 14] = exp_taylor();
 
 /// e^x lane-wise (see the module doc); NaN stays NaN, +∞ stays +∞ beyond 709.
 #[inline(always)]
-pub fn exp4(x: F4) -> F4 {
+pub(crate) fn exp4(x: F4) -> F4 {
     let mut out = [0.0; 4];
     for i in 0..4 {
         let xc = x[i].clamp(-746.0, 709.0);
@@ -81,15 +81,9 @@ pub fn unit(x: f64) -> f64 {
     }
 }
 
-/// Lane-wise map.
-#[inline(always)]
-pub fn map4(a: F4, f: impl Fn(f64) -> f64) -> F4 {
-    [f(a[0]), f(a[1]), f(a[2]), f(a[3])]
-}
-
 /// Lane-wise combination of two vectors.
 #[inline(always)]
-pub fn zip4(a: F4, b: F4, f: impl Fn(f64, f64) -> f64) -> F4 {
+pub(crate) fn zip4(a: F4, b: F4, f: impl Fn(f64, f64) -> f64) -> F4 {
     [f(a[0], b[0]), f(a[1], b[1]), f(a[2], b[2]), f(a[3], b[3])]
 }
 
@@ -137,7 +131,7 @@ fn kernel(r: f64) -> (f64, f64) {
 
 /// (sin x, cos x) lane-wise.
 #[inline(always)]
-pub fn sincos4(x: F4) -> (F4, F4) {
+pub(crate) fn sincos4(x: F4) -> (F4, F4) {
     let mut sin = [0.0; 4];
     let mut cos = [0.0; 4];
     for i in 0..4 {
@@ -166,7 +160,7 @@ pub fn sincos4(x: F4) -> (F4, F4) {
 
 /// √(x + iy), y ≥ 0, on the branch Im ≥ 0.
 #[inline(always)]
-pub fn csqrt_up(x: F4, y: F4) -> (F4, F4) {
+pub(crate) fn csqrt_up(x: F4, y: F4) -> (F4, F4) {
     let mut u = [0.0; 4];
     let mut v = [0.0; 4];
     for i in 0..4 {

@@ -46,12 +46,12 @@ impl FilmRt {
     }
     /// Absorbed fraction of s-polarised light, 1 − R_s − T_s (0 for a lossless stack).
     #[inline]
-    pub fn a_s(&self) -> f64 {
+    pub(crate) fn a_s(&self) -> f64 {
         1.0 - self.r_s - self.t_s
     }
     /// Absorbed fraction of p-polarised light, 1 − R_p − T_p.
     #[inline]
-    pub fn a_p(&self) -> f64 {
+    pub(crate) fn a_p(&self) -> f64 {
         1.0 - self.r_p - self.t_p
     }
     /// Unpolarised absorptance (A_s + A_p)/2.
@@ -93,7 +93,7 @@ pub fn film_rt(cos_theta0: f64, n0: f64, n1: C, d_nm: f64, n2: C, lambda_nm: f64
 /// Unpolarised reflectance alone: [`film_rt`]`(…).r()` bit for bit, without the transmission
 /// amplitudes (the BSDFs need only R; in the complex case this saves six of the ten complex
 /// divisions).
-pub fn film_r(cos_theta0: f64, n0: f64, n1: C, d_nm: f64, n2: C, lambda_nm: f64) -> f64 {
+pub(crate) fn film_r(cos_theta0: f64, n0: f64, n1: C, d_nm: f64, n2: C, lambda_nm: f64) -> f64 {
     if let Some(rt) = film_rt_propagating(cos_theta0, n0, n1, d_nm, n2, lambda_nm) {
         return rt.r();
     }
@@ -105,7 +105,7 @@ pub fn film_r(cos_theta0: f64, n0: f64, n1: C, d_nm: f64, n2: C, lambda_nm: f64)
 /// (no total internal reflection, `d_nm` > 0) the Airy sum runs in four lanes with one
 /// [`sincos4`](super::simd4::sincos4) for the phases; it agrees with `film_r` to a few ulp
 /// (the cosine's rounding; tested). Other cases take `film_r` lane by lane.
-pub fn film_r4(cos_theta0: f64, n0: F4, n1: F4, d_nm: f64, n2: F4, lambda_nm: F4) -> F4 {
+pub(crate) fn film_r4(cos_theta0: f64, n0: F4, n1: F4, d_nm: f64, n2: F4, lambda_nm: F4) -> F4 {
     let cos0 = cos_theta0.min(1.0);
     let mut c1 = [0.0; 4];
     let mut c2 = [0.0; 4];

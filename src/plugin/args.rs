@@ -161,61 +161,80 @@ impl<'a> Args<'a> {
         )
     }
 
+    /// The declared default of `p` as `pick` takes it (`None`: no default of that kind), with
+    /// the name it is checked under; an error when the parameter is required.
+    fn declared<T>(
+        &self,
+        p: &Param,
+        name: &str,
+        pick: impl Fn(DefaultValue) -> Option<T>,
+    ) -> Result<Option<(T, String)>, SceneError> {
+        match p.default {
+            DefaultValue::Required => Err(self.missing(p, name)),
+            d => Ok(pick(d).map(|v| (v, p.name.to_string()))),
+        }
+    }
+
+    /// A number read (or defaulted) as `v`, after the declared check.
+    fn checked<T: Copy>(
+        &self,
+        p: &Param,
+        v: Option<(T, String)>,
+        as_f64: fn(T) -> f64,
+    ) -> Result<Option<T>, SceneError> {
+        if let Some((x, n)) = &v {
+            self.check_number(p, n, as_f64(*x))?;
+        }
+        Ok(v.map(|(x, _)| x))
+    }
+
+    /// `v`, or the error of a parameter that must be given (it has no default of its kind).
+    fn given<T>(&self, name: &str, v: Option<T>) -> Result<T, SceneError> {
+        v.ok_or_else(|| {
+            self.missing(
+                self.info.param(name).expect("declared: param() succeeded"),
+                name,
+            )
+        })
+    }
+
     /// A float (integers accepted), or `None` when absent and the default is not a number.
-    pub fn float_opt(&self, name: &str) -> Result<Option<f32>, SceneError> {
+    pub(crate) fn float_opt(&self, name: &str) -> Result<Option<f32>, SceneError> {
         let p = self.param(name)?;
         let v = match self.present(p, name)? {
             Some(n) => match self.node.props.get_float_opt(&n)? {
                 Some(v) => Some((v, n)),
                 None => return Err(self.node.props.type_error(&n, "a float")),
             },
-            None => match p.default {
-                DefaultValue::Float(v) => Some((v, p.name.to_string())),
-                DefaultValue::Required => return Err(self.missing(p, name)),
+            None => self.declared(p, name, |d| match d {
+                DefaultValue::Float(v) => Some(v),
                 _ => None,
-            },
+            })?,
         };
-        if let Some((v, n)) = &v {
-            self.check_number(p, n, *v as f64)?;
-        }
-        Ok(v.map(|(v, _)| v))
+        self.checked(p, v, f64::from)
     }
 
     /// A float; the declaration must give a numeric default or require the value.
     pub fn float(&self, name: &str) -> Result<f32, SceneError> {
-        self.float_opt(name)?.ok_or_else(|| {
-            self.missing(
-                self.info.param(name).expect("declared: param() succeeded"),
-                name,
-            )
-        })
+        self.given(name, self.float_opt(name)?)
     }
 
     /// An integer, or `None` when absent without a default.
-    pub fn int_opt(&self, name: &str) -> Result<Option<i64>, SceneError> {
+    pub(crate) fn int_opt(&self, name: &str) -> Result<Option<i64>, SceneError> {
         let p = self.param(name)?;
         let v = match self.present(p, name)? {
             Some(n) => self.node.props.get_int_opt(&n)?.map(|v| (v, n)),
-            None => match p.default {
-                DefaultValue::Int(v) => Some((v, p.name.to_string())),
-                DefaultValue::Required => return Err(self.missing(p, name)),
+            None => self.declared(p, name, |d| match d {
+                DefaultValue::Int(v) => Some(v),
                 _ => None,
-            },
+            })?,
         };
-        if let Some((v, n)) = &v {
-            self.check_number(p, n, *v as f64)?;
-        }
-        Ok(v.map(|(v, _)| v))
+        self.checked(p, v, |v| v as f64)
     }
 
     /// An integer with a declared default.
     pub fn int(&self, name: &str) -> Result<i64, SceneError> {
-        self.int_opt(name)?.ok_or_else(|| {
-            self.missing(
-                self.info.param(name).expect("declared: param() succeeded"),
-                name,
-            )
-        })
+        self.given(name, self.int_opt(name)?)
     }
 
     /// A boolean (declared default when absent).
@@ -231,15 +250,14 @@ impl<'a> Args<'a> {
     }
 
     /// A string, or `None` when absent without a default; checked against `OneOf`.
-    pub fn string_opt(&self, name: &str) -> Result<Option<String>, SceneError> {
+    pub(crate) fn string_opt(&self, name: &str) -> Result<Option<String>, SceneError> {
         let p = self.param(name)?;
         let v = match self.present(p, name)? {
             Some(n) => self.node.props.get_string_opt(&n)?.map(|s| (s, n)),
-            None => match p.default {
-                DefaultValue::Str(s) => Some((s.to_string(), p.name.to_string())),
-                DefaultValue::Required => return Err(self.missing(p, name)),
+            None => self.declared(p, name, |d| match d {
+                DefaultValue::Str(s) => Some(s.to_string()),
                 _ => None,
-            },
+            })?,
         };
         if let (Some((s, _)), Check::OneOf(allowed)) = (&v, p.check) {
             if !allowed.contains(&s.as_str()) {
@@ -253,12 +271,7 @@ impl<'a> Args<'a> {
 
     /// A string with a declared default.
     pub fn string(&self, name: &str) -> Result<String, SceneError> {
-        self.string_opt(name)?.ok_or_else(|| {
-            self.missing(
-                self.info.param(name).expect("declared: param() succeeded"),
-                name,
-            )
-        })
+        self.given(name, self.string_opt(name)?)
     }
 
     /// A file name resolved against the folder of the file that declared it.
@@ -281,7 +294,7 @@ impl<'a> Args<'a> {
     }
 
     /// A point (a vector is accepted too), or `None` if absent.
-    pub fn point_opt(&self, name: &str) -> Result<Option<Vec3>, SceneError> {
+    pub(crate) fn point_opt(&self, name: &str) -> Result<Option<Vec3>, SceneError> {
         let p = self.param(name)?;
         match self.present(p, name)? {
             Some(n) => self.node.props.get_point_opt(&n),
@@ -290,7 +303,7 @@ impl<'a> Args<'a> {
     }
 
     /// A vector (a point is accepted too), or `None` if absent.
-    pub fn vector_opt(&self, name: &str) -> Result<Option<Vec3>, SceneError> {
+    pub(crate) fn vector_opt(&self, name: &str) -> Result<Option<Vec3>, SceneError> {
         let p = self.param(name)?;
         match self.present(p, name)? {
             Some(n) => self.node.props.get_vector_opt(&n),
@@ -329,7 +342,7 @@ impl<'a> Args<'a> {
     }
 
     /// A spectrum value of the declared kind, or `None` when absent without a default.
-    pub fn spectrum_opt(&self, name: &str) -> Result<Option<Spectrum>, SceneError> {
+    pub(crate) fn spectrum_opt(&self, name: &str) -> Result<Option<Spectrum>, SceneError> {
         let p = self.param(name)?;
         match self.present(p, name)? {
             Some(n) => values::spectrum_opt(self.node, &n, Self::kind(p)),
@@ -340,7 +353,11 @@ impl<'a> Args<'a> {
 
     /// A spectrum value read as `kind` (for textures, whose users decide how a colour is
     /// uplifted), with the declared default.
-    pub fn spectrum_as(&self, name: &str, kind: SpectrumKind) -> Result<Spectrum, SceneError> {
+    pub(crate) fn spectrum_as(
+        &self,
+        name: &str,
+        kind: SpectrumKind,
+    ) -> Result<Spectrum, SceneError> {
         let p = self.param(name)?;
         let mut as_kind = *p;
         as_kind.ty = Ty::Spectrum(kind);
@@ -353,12 +370,7 @@ impl<'a> Args<'a> {
 
     /// A spectrum value with a declared default.
     pub fn spectrum(&self, name: &str) -> Result<Spectrum, SceneError> {
-        self.spectrum_opt(name)?.ok_or_else(|| {
-            self.missing(
-                self.info.param(name).expect("declared: param() succeeded"),
-                name,
-            )
-        })
+        self.given(name, self.spectrum_opt(name)?)
     }
 
     /// The nested or referenced texture given as `name`, if any.
@@ -370,7 +382,7 @@ impl<'a> Args<'a> {
     }
 
     /// A colour: a nested or referenced texture, or a value (declared default when absent).
-    pub fn spectrum_texture(&mut self, name: &str) -> Result<SpectrumTexture, SceneError> {
+    pub(crate) fn spectrum_texture(&mut self, name: &str) -> Result<SpectrumTexture, SceneError> {
         let p = self.param(name)?;
         if let Some(tex) = self.texture_child(p, name)? {
             return registry::spectrum_texture(tex, Self::kind(p), self.warnings);
@@ -379,7 +391,7 @@ impl<'a> Args<'a> {
     }
 
     /// A scalar: a nested or referenced texture, or a checked float (declared default).
-    pub fn float_texture(&mut self, name: &str) -> Result<FloatTexture, SceneError> {
+    pub(crate) fn float_texture(&mut self, name: &str) -> Result<FloatTexture, SceneError> {
         let p = self.param(name)?;
         if let Some(tex) = self.texture_child(p, name)? {
             return registry::float_texture(tex, self.warnings);
@@ -421,7 +433,7 @@ impl<'a> Args<'a> {
     }
 
     /// Builds a nested texture.
-    pub fn texture_node(
+    pub(crate) fn texture_node(
         &mut self,
         node: &Arc<Node>,
         want: Want,

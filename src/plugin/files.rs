@@ -6,18 +6,19 @@ use std::path::{Path, PathBuf};
 
 /// An ordered list of folders to look relative file names up in.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
-pub struct FileResolver {
+pub(crate) struct FileResolver {
     dirs: Vec<PathBuf>,
 }
 
 impl FileResolver {
+    #[cfg(test)]
     /// A resolver searching `dirs` in order.
     pub fn new(dirs: Vec<PathBuf>) -> FileResolver {
         FileResolver { dirs }
     }
 
     /// The resolver a scene file starts with: its folder, then the working directory.
-    pub fn for_scene(file: &Path) -> FileResolver {
+    pub(crate) fn for_scene(file: &Path) -> FileResolver {
         let mut dirs = vec![file.parent().map(PathBuf::from).unwrap_or_default()];
         if let Ok(cwd) = std::env::current_dir() {
             dirs.push(cwd);
@@ -26,13 +27,8 @@ impl FileResolver {
     }
 
     /// Puts `dir` first, ahead of every folder already listed.
-    pub fn prepend(&mut self, dir: PathBuf) {
+    pub(crate) fn prepend(&mut self, dir: PathBuf) {
         self.dirs.insert(0, dir);
-    }
-
-    /// The folders, searched first to last.
-    pub fn dirs(&self) -> &[PathBuf] {
-        &self.dirs
     }
 
     /// The first `dir/name` that exists; an absolute `name` if it exists; `None` otherwise.

@@ -7,13 +7,14 @@ use super::{Info, Tag};
 use std::fmt::Write as _;
 
 /// The elements plugins appear as, in the order the reference lists them.
-const TAGS: [Tag; 8] = [
+const TAGS: [Tag; 9] = [
     Tag::Bsdf,
     Tag::Texture,
     Tag::Shape,
     Tag::Emitter,
     Tag::Sensor,
     Tag::Film,
+    Tag::Rfilter,
     Tag::Sampler,
     Tag::Integrator,
 ];

@@ -15,17 +15,18 @@
 /// Declares a plugin constant, as one registration line per plugin:
 ///
 /// ```ignore
-/// declare!(pub(crate) PLUGIN: Material = Bsdf "dielectric" [] "smooth glass …"
+/// declare!(PLUGIN: Material = Bsdf "dielectric" [] "smooth glass …"
 ///     [DIELECTRIC_IORS, FACTORS] load);
 /// ```
 ///
-/// — the constant's type (`Material`, or `Texture, Want` for a loader with a request), the
-/// element, the name, its aliases, the one-line summary, the parameter groups and the loader.
+/// — the constant (crate-visible, documented as "The `dielectric` plugin."), its type
+/// (`Material`, or `Texture, Want` for a loader with a request), the element, the name, its
+/// aliases, the one-line summary, the parameter groups and the loader.
 macro_rules! declare {
-    ($(#[$meta:meta])* $vis:vis $id:ident: $t:ty $(, $c:ty)? = $tag:ident $name:literal
+    ($id:ident: $t:ty $(, $c:ty)? = $tag:ident $name:literal
      [$($alias:literal),*] $summary:literal [$($group:expr),* $(,)?] $load:expr) => {
-        $(#[$meta])*
-        $vis const $id: $crate::plugin::Plugin<$t $(, $c)?> = $crate::plugin::Plugin::new(
+        #[doc = concat!("The `", $name, "` plugin.")]
+        pub(crate) const $id: $crate::plugin::Plugin<$t $(, $c)?> = $crate::plugin::Plugin::new(
             $crate::plugin::Info::new(
                 $crate::plugin::Tag::$tag,
                 $name,
@@ -53,7 +54,7 @@ pub mod values;
 
 pub use args::Args;
 pub use error::SceneError;
-pub use files::FileResolver;
+pub(crate) use files::FileResolver;
 pub(crate) use node::describe;
 pub use node::{Child, Location, Node, Tag, Warning};
 pub use param::{Check, DefaultValue, Info, Param, Plugin, Ty};

@@ -64,7 +64,7 @@ impl Tag {
     }
 
     /// The object tag for an element name (`scene` included); `None` for anything else.
-    pub fn from_name(name: &str) -> Option<Tag> {
+    pub(crate) fn from_name(name: &str) -> Option<Tag> {
         const ALL: [Tag; 14] = [
             Tag::Scene,
             Tag::Shape,
@@ -123,7 +123,7 @@ impl Node {
     }
 
     /// All children with the given tag, named or not.
-    pub fn children_with_tag(&self, tag: Tag) -> impl Iterator<Item = &Arc<Node>> + '_ {
+    pub(crate) fn children_with_tag(&self, tag: Tag) -> impl Iterator<Item = &Arc<Node>> + '_ {
         self.children
             .iter()
             .filter(move |c| c.node.tag == tag)

@@ -185,6 +185,20 @@ impl Param {
     pub const fn float(name: &'static str, default: f32) -> Param {
         Param::new(name, Ty::Float, DefaultValue::Float(default))
     }
+    /// A point in the shape's own coordinates; `default` says where it is when absent.
+    pub const fn object_point(name: &'static str, default: &'static str) -> Param {
+        Param::new(name, Ty::Point, DefaultValue::Derived(default)).unit("object space")
+    }
+    /// A positive distance in world units, with a default.
+    pub const fn length(name: &'static str, default: f32) -> Param {
+        Param::float(name, default)
+            .check(Check::Positive)
+            .unit("world units")
+    }
+    /// A fraction in [0, 1], with a default.
+    pub const fn fraction(name: &'static str, default: f32) -> Param {
+        Param::float(name, default).check(Check::Range(0.0, 1.0))
+    }
     /// An integer with a default.
     pub const fn int(name: &'static str, default: i64) -> Param {
         Param::new(name, Ty::Integer, DefaultValue::Int(default))
@@ -196,6 +210,40 @@ impl Param {
     /// A string with a default.
     pub const fn string(name: &'static str, default: &'static str) -> Param {
         Param::new(name, Ty::String, DefaultValue::Str(default))
+    }
+    /// An emitted quantity: a spectrum read as an illuminant (RGB and plain numbers are times
+    /// D65, as in Mitsuba's spectral variants), 1 by default.
+    pub const fn emission(name: &'static str) -> Param {
+        Param::new(
+            name,
+            Ty::Spectrum(SpectrumKind::Illuminant),
+            DefaultValue::Float(1.0),
+        )
+    }
+    /// A reflectance in [0, 1]: a colour, a number or a texture, with a default.
+    pub const fn reflectance(name: &'static str, default: f32) -> Param {
+        Param::new(
+            name,
+            Ty::SpectrumTexture(SpectrumKind::Albedo),
+            DefaultValue::Float(default),
+        )
+    }
+    /// A colour in [0, 1] (no texture), with a default.
+    pub const fn colour(name: &'static str, default: f32) -> Param {
+        Param::new(
+            name,
+            Ty::Spectrum(SpectrumKind::Albedo),
+            DefaultValue::Float(default),
+        )
+    }
+    /// A non-negative spectral coefficient (absorption, extinction): a spectrum, a number or a
+    /// texture, with a default.
+    pub const fn coefficient(name: &'static str, default: f32) -> Param {
+        Param::new(
+            name,
+            Ty::SpectrumTexture(SpectrumKind::Unbounded),
+            DefaultValue::Float(default),
+        )
     }
     /// Other accepted spellings.
     pub const fn also(mut self, names: &'static [&'static str]) -> Param {
@@ -220,6 +268,13 @@ impl Param {
     /// One line of documentation.
     pub const fn doc(mut self, doc: &'static str) -> Param {
         self.doc = doc;
+        self
+    }
+    /// The same parameter under another name (a variant's spelling), without its other
+    /// spellings.
+    pub const fn named(mut self, name: &'static str) -> Param {
+        self.name = name;
+        self.also = &[];
         self
     }
     /// A different default (for plugin variants sharing a declaration).
@@ -279,7 +334,7 @@ impl Info {
 
     /// The declared parameter under any of its spellings; an indexed declaration `x_i`
     /// matches `x_0`, `x_1`, ….
-    pub fn param(&self, name: &str) -> Option<&'static Param> {
+    pub(crate) fn param(&self, name: &str) -> Option<&'static Param> {
         let indexed = |n: &str| {
             n.strip_suffix("_i").is_some_and(|prefix| {
                 name.strip_prefix(prefix)
@@ -297,7 +352,7 @@ impl Info {
     }
 
     /// Whether `name` (or an alias) names this plugin.
-    pub fn is_called(&self, name: &str) -> bool {
+    pub(crate) fn is_called(&self, name: &str) -> bool {
         self.name == name || self.aliases.contains(&name)
     }
 

@@ -41,7 +41,7 @@ pub enum Value {
 
 impl Value {
     /// The XML tag that produces this kind of value, for messages.
-    pub fn type_name(&self) -> &'static str {
+    pub(crate) fn type_name(&self) -> &'static str {
         match self {
             Value::Float(_) => "float",
             Value::Integer(_) => "integer",
@@ -127,7 +127,7 @@ impl Properties {
     }
 
     /// Who owns these parameters, e.g. "bsdf 'diffuse'".
-    pub fn owner(&self) -> &str {
+    pub(crate) fn owner(&self) -> &str {
         &self.owner
     }
 
@@ -159,12 +159,12 @@ impl Properties {
     }
 
     /// The spelling in the file (e.g. `intIOR` for `int_ior` in a 0.6 scene).
-    pub fn original_name(&self, name: &str) -> Option<&str> {
+    pub(crate) fn original_name(&self, name: &str) -> Option<&str> {
         self.entry(name).map(|e| e.original.as_str())
     }
 
     /// Marks a parameter as read without reading it.
-    pub fn mark_queried(&self, name: &str) {
+    pub(crate) fn mark_queried(&self, name: &str) {
         if let Some(e) = self.entry(name) {
             e.queried.store(true, Ordering::Relaxed);
         }
@@ -187,7 +187,7 @@ impl Properties {
     }
 
     /// The error for a parameter of the wrong type.
-    pub fn type_error(&self, name: &str, expected: &str) -> SceneError {
+    pub(crate) fn type_error(&self, name: &str, expected: &str) -> SceneError {
         match self.entry(name) {
             Some(e) => SceneError::at(
                 &e.loc,
@@ -220,7 +220,7 @@ impl Properties {
     }
 
     /// A float (an integer is accepted too), or `None` if absent.
-    pub fn get_float_opt(&self, name: &str) -> Result<Option<f32>, SceneError> {
+    pub(crate) fn get_float_opt(&self, name: &str) -> Result<Option<f32>, SceneError> {
         let v = self.typed(name, "a float", |v| match *v {
             Value::Float(x) => Some(x),
             Value::Integer(i) => Some(i as f64),
@@ -247,41 +247,44 @@ impl Properties {
     }
 
     /// An integer, or `None` if absent.
-    pub fn get_int_opt(&self, name: &str) -> Result<Option<i64>, SceneError> {
+    pub(crate) fn get_int_opt(&self, name: &str) -> Result<Option<i64>, SceneError> {
         self.typed(name, "an integer", |v| match *v {
             Value::Integer(i) => Some(i),
             _ => None,
         })
     }
 
+    #[cfg(test)]
     /// An integer, or `default` if absent.
-    pub fn get_int(&self, name: &str, default: i64) -> Result<i64, SceneError> {
+    pub(crate) fn get_int(&self, name: &str, default: i64) -> Result<i64, SceneError> {
         Ok(self.get_int_opt(name)?.unwrap_or(default))
     }
 
     /// A boolean, or `None` if absent.
-    pub fn get_bool_opt(&self, name: &str) -> Result<Option<bool>, SceneError> {
+    pub(crate) fn get_bool_opt(&self, name: &str) -> Result<Option<bool>, SceneError> {
         self.typed(name, "a boolean", |v| match *v {
             Value::Boolean(b) => Some(b),
             _ => None,
         })
     }
 
+    #[cfg(test)]
     /// A boolean, or `default` if absent.
-    pub fn get_bool(&self, name: &str, default: bool) -> Result<bool, SceneError> {
+    pub(crate) fn get_bool(&self, name: &str, default: bool) -> Result<bool, SceneError> {
         Ok(self.get_bool_opt(name)?.unwrap_or(default))
     }
 
     /// A string, or `None` if absent.
-    pub fn get_string_opt(&self, name: &str) -> Result<Option<String>, SceneError> {
+    pub(crate) fn get_string_opt(&self, name: &str) -> Result<Option<String>, SceneError> {
         self.typed(name, "a string", |v| match v {
             Value::String(s) => Some(s.clone()),
             _ => None,
         })
     }
 
+    #[cfg(test)]
     /// A string, or `default` if absent.
-    pub fn get_string(&self, name: &str, default: &str) -> Result<String, SceneError> {
+    pub(crate) fn get_string(&self, name: &str, default: &str) -> Result<String, SceneError> {
         Ok(self
             .get_string_opt(name)?
             .unwrap_or_else(|| default.to_string()))
@@ -291,7 +294,7 @@ impl Properties {
     /// the scene's folder and the working directory; then, as a last resort, next to the file
     /// that declared it (see `resolver.rs`). A file found nowhere is named relative to the
     /// declaring file's folder, for the message.
-    pub fn get_path_opt(&self, name: &str) -> Result<Option<PathBuf>, SceneError> {
+    pub(crate) fn get_path_opt(&self, name: &str) -> Result<Option<PathBuf>, SceneError> {
         let Some(s) = self.get_string_opt(name)? else {
             return Ok(None);
         };
@@ -308,33 +311,32 @@ impl Properties {
     }
 
     /// A point (a `<vector>` is accepted too, as in Mitsuba 3), or `None` if absent.
-    pub fn get_point_opt(&self, name: &str) -> Result<Option<Vec3>, SceneError> {
-        self.typed(name, "a point", |v| match *v {
-            Value::Point(p) | Value::Vector(p) => Some(p),
-            _ => None,
-        })
+    pub(crate) fn get_point_opt(&self, name: &str) -> Result<Option<Vec3>, SceneError> {
+        self.get_vec3_opt(name, "a point")
     }
 
+    #[cfg(test)]
     /// A point, or `default` if absent.
-    pub fn get_point(&self, name: &str, default: Vec3) -> Result<Vec3, SceneError> {
+    pub(crate) fn get_point(&self, name: &str, default: Vec3) -> Result<Vec3, SceneError> {
         Ok(self.get_point_opt(name)?.unwrap_or(default))
     }
 
     /// A vector (a `<point>` is accepted too, as in Mitsuba 3), or `None` if absent.
-    pub fn get_vector_opt(&self, name: &str) -> Result<Option<Vec3>, SceneError> {
-        self.typed(name, "a vector", |v| match *v {
+    pub(crate) fn get_vector_opt(&self, name: &str) -> Result<Option<Vec3>, SceneError> {
+        self.get_vec3_opt(name, "a vector")
+    }
+
+    /// A `<point>` or a `<vector>` (Mitsuba 3 takes either for the other), or `None` if absent;
+    /// `expected` words the error.
+    fn get_vec3_opt(&self, name: &str, expected: &str) -> Result<Option<Vec3>, SceneError> {
+        self.typed(name, expected, |v| match *v {
             Value::Point(p) | Value::Vector(p) => Some(p),
             _ => None,
         })
     }
 
-    /// A vector, or `default` if absent.
-    pub fn get_vector(&self, name: &str, default: Vec3) -> Result<Vec3, SceneError> {
-        Ok(self.get_vector_opt(name)?.unwrap_or(default))
-    }
-
     /// A transform, or `None` if absent.
-    pub fn get_transform_opt(&self, name: &str) -> Result<Option<Transform>, SceneError> {
+    pub(crate) fn get_transform_opt(&self, name: &str) -> Result<Option<Transform>, SceneError> {
         self.typed(name, "a transform", |v| match *v {
             Value::Transform(t) => Some(t),
             _ => None,
@@ -392,7 +394,7 @@ mod tests {
         assert_eq!(p.get_int_opt("missing").unwrap(), None);
         assert!(p.get_bool("flip", false).unwrap());
         assert_eq!(
-            p.get_vector("center", Vec3::ZERO).unwrap(),
+            p.get_vector_opt("center").unwrap().unwrap(),
             Vec3::new(1.0, 2.0, 3.0)
         );
         let unq: Vec<String> = p.unqueried().into_iter().map(|(n, _)| n).collect();

@@ -21,7 +21,7 @@ pub enum SpectrumKind {
 }
 
 /// Reads parameter `name` of `node` as a spectrum, or `None` if absent.
-pub fn spectrum_opt(
+pub(crate) fn spectrum_opt(
     node: &Node,
     name: &str,
     kind: SpectrumKind,
@@ -122,7 +122,7 @@ pub fn spectrum(
 }
 
 /// Reads a Mitsuba `.spd` file: lines of "wavelength value", `#` comments.
-pub fn read_spd(path: &Path) -> Result<PiecewiseLinear, String> {
+pub(crate) fn read_spd(path: &Path) -> Result<PiecewiseLinear, String> {
     let text = std::fs::read_to_string(path)
         .map_err(|e| format!("cannot read spectrum file {}: {e}", path.display()))?;
     let mut l = Vec::new();
@@ -185,47 +185,6 @@ pub fn ior(node: &Node, name: &str, default: &str) -> Result<f32, SceneError> {
             &loc,
             format!(
                 "'{name}' of {} must be a positive index of refraction, got {v}",
-                node.describe()
-            ),
-        ));
-    }
-    Ok(v)
-}
-
-/// A float that must satisfy `ok`, with `what` describing the constraint for the message.
-pub fn checked_float(
-    node: &Node,
-    name: &str,
-    default: f32,
-    ok: impl Fn(f32) -> bool,
-    what: &str,
-) -> Result<f32, SceneError> {
-    let v = node.props.get_float(name, default)?;
-    if !ok(v) {
-        let loc = node.props.location(name).unwrap_or(&node.loc);
-        return Err(SceneError::at(
-            loc,
-            format!("'{name}' of {} must be {what}, got {v}", node.describe()),
-        ));
-    }
-    Ok(v)
-}
-
-/// An integer that must lie in `lo..=hi`.
-pub fn checked_int(
-    node: &Node,
-    name: &str,
-    default: i64,
-    lo: i64,
-    hi: i64,
-) -> Result<i64, SceneError> {
-    let v = node.props.get_int(name, default)?;
-    if v < lo || v > hi {
-        let loc = node.props.location(name).unwrap_or(&node.loc);
-        return Err(SceneError::at(
-            loc,
-            format!(
-                "'{name}' of {} must be between {lo} and {hi}, got {v}",
                 node.describe()
             ),
         ));

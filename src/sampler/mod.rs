@@ -144,6 +144,10 @@ impl Sampler {
     }
 }
 
+// The plugins: each sampler's manual, declaration and loader (the sequences are above).
+pub(crate) mod independent;
+pub(crate) mod sobol;
+
 #[cfg(test)]
 mod tests {
     use super::*;

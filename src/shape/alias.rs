@@ -14,7 +14,7 @@
 
 /// A table for sampling indices in proportion to their weights.
 #[derive(Clone, Debug)]
-pub struct AliasTable {
+pub(crate) struct AliasTable {
     /// Per bucket: the probability of keeping the bucket's own item, and its alias.
     buckets: Vec<(f32, u32)>,
 }
@@ -47,14 +47,10 @@ impl AliasTable {
         Some(AliasTable { buckets })
     }
 
+    #[cfg(test)]
     /// Number of items.
     pub fn len(&self) -> usize {
         self.buckets.len()
-    }
-
-    /// Whether the table is empty (never: `new` refuses that).
-    pub fn is_empty(&self) -> bool {
-        self.buckets.is_empty()
     }
 
     /// The item for `u` in [0, 1), and the leftover fraction rescaled to [0, 1).

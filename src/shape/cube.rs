@@ -11,9 +11,7 @@ use super::{Parts, Shape, TriangleMesh};
 use crate::math::Transform;
 use crate::plugin::{declare, Args, SceneError};
 
-declare!(
-    /// The `cube` plugin.
-    pub(crate) PLUGIN: Parts, Transform = Shape "cube" []
+declare!(PLUGIN: Parts, Transform = Shape "cube" []
     "the cube [−1, 1]³ with outward normals, as 12 triangles"
     [super::PLACEMENT] load);
 

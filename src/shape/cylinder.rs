@@ -29,19 +29,15 @@
 //! (Mitsuba only warns; ophis refuses, since area sampling would be wrong).
 use super::{area_to_solid_angle, Hit, ShapeError, ShapeSample, SurfaceInteraction};
 use crate::math::{Bounds3, Frame, Mat4, Ray, Transform, Vec2, Vec3, INV_2PI, PI};
-use crate::plugin::{declare, Args, DefaultValue, Param, SceneError, Ty};
+use crate::plugin::{declare, Args, Param, SceneError};
 use glam::{DVec2, DVec3};
 
-declare!(
-    /// The `cylinder` plugin.
-    pub(crate) PLUGIN: super::Parts, Transform = Shape "cylinder" []
+declare!(PLUGIN: super::Parts, Transform = Shape "cylinder" []
     "analytic cylinder side, open at both ends"
     [&[
-        Param::new("p0", Ty::Point, DefaultValue::Derived("(0, 0, 0)"))
-            .unit("object space")
+        Param::object_point("p0", "(0, 0, 0)")
             .doc("start of the axis"),
-        Param::new("p1", Ty::Point, DefaultValue::Derived("(0, 0, 1)"))
-            .unit("object space")
+        Param::object_point("p1", "(0, 0, 1)")
             .doc("end of the axis"),
         super::RADIUS,
     ], super::PLACEMENT] load);
@@ -224,7 +220,7 @@ impl Cylinder {
     }
 
     /// Samples a point uniformly by area, with its density in solid angle seen from `ref_p`.
-    pub fn sample_direct(&self, ref_p: Vec3, u: Vec2) -> Option<ShapeSample> {
+    pub(crate) fn sample_direct(&self, ref_p: Vec3, u: Vec2) -> Option<ShapeSample> {
         let (s, c) = (2.0 * PI * u.y).sin_cos();
         let (p, n, uv, _, _) = self.at_local(Vec3::new(c, s, u.x));
         let pdf = area_to_solid_angle(1.0 / self.area(), ref_p, p, n);
@@ -232,7 +228,7 @@ impl Cylinder {
     }
 
     /// Solid-angle density of [`Cylinder::sample_direct`] choosing `p` (normal `n`) from `ref_p`.
-    pub fn pdf_direct(&self, ref_p: Vec3, p: Vec3, n: Vec3) -> f32 {
+    pub(crate) fn pdf_direct(&self, ref_p: Vec3, p: Vec3, n: Vec3) -> f32 {
         area_to_solid_angle(1.0 / self.area(), ref_p, p, n)
     }
 }

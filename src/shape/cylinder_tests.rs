@@ -1,27 +1,18 @@
 use super::*;
 use crate::math::{warp, Pcg32};
 
+/// The cylinder from `p0` to `p1` of `radius`, placed by `to_world`, normals outwards.
+fn cylinder(p0: [f32; 3], p1: [f32; 3], radius: f32, to_world: &Transform) -> Cylinder {
+    Cylinder::new(p0.into(), p1.into(), radius, to_world, false).unwrap()
+}
+
 fn hit(c: &Cylinder, ray: &Ray) -> Option<SurfaceInteraction> {
-    let (t, uv) = c.intersect(ray)?;
-    let h = Hit {
-        t,
-        shape: 0,
-        prim: 0,
-        uv,
-    };
-    Some(c.interaction(&h, ray))
+    crate::shape::test_util::first_hit(c.intersect(ray), |h| c.interaction(h, ray))
 }
 
 /// Radius 1, axis from (0, 0, 0) to (0, 0, 2).
 fn upright() -> Cylinder {
-    Cylinder::new(
-        Vec3::ZERO,
-        Vec3::new(0.0, 0.0, 2.0),
-        1.0,
-        &Transform::IDENTITY,
-        false,
-    )
-    .unwrap()
+    cylinder([0.0, 0.0, 0.0], [0.0, 0.0, 2.0], 1.0, &Transform::IDENTITY)
 }
 
 #[test]
@@ -62,14 +53,7 @@ fn hit_distances_match_analytic_answers() {
 fn p0_p1_radius_and_to_world_place_it_as_mitsuba_does() {
     // Axis along +x from (1, 2, 3), length 4, radius 0.5, then moved by (0, 0, 10).
     let t = Transform::translate(Vec3::new(0.0, 0.0, 10.0));
-    let c = Cylinder::new(
-        Vec3::new(1.0, 2.0, 3.0),
-        Vec3::new(5.0, 2.0, 3.0),
-        0.5,
-        &t,
-        false,
-    )
-    .unwrap();
+    let c = cylinder([1.0, 2.0, 3.0], [5.0, 2.0, 3.0], 0.5, &t);
     assert!((c.radius - 0.5).abs() < 1e-6 && (c.length - 4.0).abs() < 1e-6);
     assert!((c.area() - 2.0 * PI * 0.5 * 4.0).abs() < 1e-4);
     let si = hit(&c, &Ray::new(Vec3::new(3.0, 2.0, 20.0), -Vec3::Z)).unwrap();
@@ -91,14 +75,7 @@ fn p0_p1_radius_and_to_world_place_it_as_mitsuba_does() {
 #[test]
 fn tangents_match_finite_differences_and_normal_points_out() {
     let rot = Transform::rotate(Vec3::new(1.0, 2.0, 0.5), 33.0).unwrap();
-    let c = Cylinder::new(
-        Vec3::new(0.2, 0.0, 0.0),
-        Vec3::new(0.2, 1.0, 3.0),
-        0.7,
-        &rot,
-        false,
-    )
-    .unwrap();
+    let c = cylinder([0.2, 0.0, 0.0], [0.2, 1.0, 3.0], 0.7, &rot);
     let point = |u: f32, v: f32| {
         let phi = 2.0 * PI * u;
         c.to_world.point(Vec3::new(phi.cos(), phi.sin(), v))
@@ -153,14 +130,7 @@ fn non_circular_sections_and_bad_parameters_are_rejected() {
 fn area_sampling_density_integrates_the_seen_solid_angle() {
     // E[1/pdf] over area samples = ∫ |cos θ'| / d² dA, the solid angle the surface covers
     // counted once per layer; the reference is a fine midpoint quadrature over (φ, z).
-    let c = Cylinder::new(
-        Vec3::ZERO,
-        Vec3::new(0.0, 0.0, 1.5),
-        0.4,
-        &Transform::IDENTITY,
-        false,
-    )
-    .unwrap();
+    let c = cylinder([0.0, 0.0, 0.0], [0.0, 0.0, 1.5], 0.4, &Transform::IDENTITY);
     let r = Vec3::new(1.1, -0.3, 0.6);
     let mut quad = 0.0f64;
     let (nphi, nz) = (2000, 1000);
@@ -196,14 +166,7 @@ fn area_sampling_density_integrates_the_seen_solid_angle() {
 
 #[test]
 fn spawned_rays_do_not_rehit_a_thin_cylinder() {
-    let c = Cylinder::new(
-        Vec3::new(0.1, 0.2, 0.3),
-        Vec3::new(0.1, 0.2, 1.3),
-        1e-3,
-        &Transform::IDENTITY,
-        false,
-    )
-    .unwrap();
+    let c = cylinder([0.1, 0.2, 0.3], [0.1, 0.2, 1.3], 1e-3, &Transform::IDENTITY);
     let mut rng = Pcg32::new(5, 7);
     let mut hits = 0;
     for _ in 0..10_000 {

@@ -20,9 +20,7 @@ use super::{area_to_solid_angle, Hit, ShapeSample, SurfaceInteraction};
 use crate::math::{warp, Bounds3, Frame, Ray, Transform, Vec2, Vec3, INV_2PI, PI};
 use crate::plugin::{declare, Args, SceneError};
 
-declare!(
-    /// The `disk` plugin.
-    pub(crate) PLUGIN: super::Parts, Transform = Shape "disk" []
+declare!(PLUGIN: super::Parts, Transform = Shape "disk" []
     "analytic unit disk, placed by `to_world`"
     [super::PLACEMENT] load);
 

@@ -38,15 +38,11 @@ use crate::math::{Pcg32, Transform, Vec2, Vec3};
 use crate::plugin::{declare, Args, Check, Param, SceneError};
 use std::f32::consts::PI;
 
-declare!(
-    /// The `litter` plugin.
-    pub(crate) PLUGIN: super::Parts, Transform = Shape "litter" []
+declare!(PLUGIN: super::Parts, Transform = Shape "litter" []
     "fallen leaves: one mesh of curled leaf blades on the ground"
     [&[
         Param::int("count", 100).check(Check::Range(1.0, 1e6)).doc("number of leaves"),
-        Param::float("size", 0.06)
-            .check(Check::Positive)
-            .unit("world units")
+        Param::length("size", 0.06)
             .doc("mean leaf length"),
         Param::float("size_spread", 0.35)
             .check(Check::ClosedOpen(0.0, 1.0))
@@ -56,21 +52,15 @@ declare!(
             .check(Check::OpenClosed(0.0, 2.0))
             .unit("of length")
             .doc("leaf width"),
-        Param::float("curl", 0.25)
-            .check(Check::Range(0.0, 1.0))
+        Param::fraction("curl", 0.25)
             .unit("of half-width")
             .doc("how far the edges curl up"),
-        Param::float("arch", 0.04)
-            .check(Check::Range(0.0, 1.0))
+        Param::fraction("arch", 0.04)
             .unit("of length")
             .doc("arch along the leaf"),
-        Param::float("lift", 0.0005)
-            .check(Check::Positive)
-            .unit("world units")
+        Param::length("lift", 0.0005)
             .doc("height of the first leaf's base (each later one a little higher)"),
-        Param::float("extent", 0.5)
-            .check(Check::Positive)
-            .unit("world units")
+        Param::length("extent", 0.5)
             .doc("half-size of the square covered"),
         Param::float("clear", 0.0)
             .check(Check::ClosedOpen(0.0, 1e6))
@@ -110,7 +100,7 @@ fn load(a: &mut Args, parent: Transform) -> Result<super::Parts, SceneError> {
 
 /// Parameters of the litter (see the module header).
 #[derive(Clone, Debug, PartialEq)]
-pub struct LitterParams {
+pub(crate) struct LitterParams {
     pub count: u32,
     pub size: f32,
     pub size_spread: f32,
@@ -145,7 +135,7 @@ const ALONG: usize = 8;
 const ACROSS: usize = 4;
 
 /// The litter's mesh in object space.
-pub fn litter(p: &LitterParams) -> MeshData {
+pub(crate) fn litter(p: &LitterParams) -> MeshData {
     let mut rng = Pcg32::new(0x1eaf ^ p.seed as u64, 7);
     let mut positions = Vec::new();
     let mut normals = Vec::new();

@@ -19,6 +19,32 @@ pub struct MeshData {
     pub indices: Vec<[u32; 3]>,
 }
 
+impl MeshData {
+    /// The mesh placed by `to_world` (its normals, if any, shade it unless `face_normals`).
+    pub(crate) fn into_mesh(
+        self,
+        to_world: &Transform,
+        flip_normals: bool,
+        face_normals: bool,
+    ) -> Result<TriangleMesh, MeshError> {
+        let MeshData {
+            positions,
+            normals,
+            uvs,
+            indices,
+        } = self;
+        TriangleMesh::new(
+            positions,
+            normals,
+            uvs,
+            indices,
+            to_world,
+            flip_normals,
+            face_normals,
+        )
+    }
+}
+
 /// Why a mesh file could not be loaded. Every variant names the file.
 #[derive(Debug, thiserror::Error)]
 pub enum LoadError {
@@ -116,57 +142,18 @@ impl TriangleMesh {
         if data.normals.is_none() && !opts.face_normals {
             data.normals = Some(smooth_normals(&data.positions, &data.indices));
         }
-        TriangleMesh::new(
-            data.positions,
-            data.normals,
-            data.uvs,
-            data.indices,
-            to_world,
-            opts.flip_normals,
-            opts.face_normals,
-        )
-        .map_err(|source| LoadError::Mesh {
-            path: path.to_path_buf(),
-            source,
-        })
-    }
-
-    /// Mitsuba's `obj` shape.
-    pub fn from_obj(
-        path: &Path,
-        to_world: &Transform,
-        opts: &MeshOptions,
-    ) -> Result<TriangleMesh, LoadError> {
-        let data = super::obj::read_obj(path)?;
-        TriangleMesh::from_data(data, path, to_world, opts)
-    }
-
-    /// Mitsuba's `serialized` shape: mesh `shape_index` of the file.
-    pub fn from_serialized(
-        path: &Path,
-        shape_index: u32,
-        to_world: &Transform,
-        opts: &MeshOptions,
-    ) -> Result<TriangleMesh, LoadError> {
-        let data = super::serialized::read_serialized(path, shape_index)?;
-        TriangleMesh::from_data(data, path, to_world, opts)
-    }
-
-    /// Mitsuba's `ply` shape.
-    pub fn from_ply(
-        path: &Path,
-        to_world: &Transform,
-        opts: &MeshOptions,
-    ) -> Result<TriangleMesh, LoadError> {
-        let data = super::ply::read_ply(path)?;
-        TriangleMesh::from_data(data, path, to_world, opts)
+        data.into_mesh(to_world, opts.flip_normals, opts.face_normals)
+            .map_err(|source| LoadError::Mesh {
+                path: path.to_path_buf(),
+                source,
+            })
     }
 }
 
 /// Angle-weighted vertex normals (see the module header); a vertex on no valid triangle gets
 /// +x, as Mitsuba gives it, and triangles with an index out of range are skipped (the mesh
 /// constructor reports them).
-pub fn smooth_normals(positions: &[Vec3], indices: &[[u32; 3]]) -> Vec<Vec3> {
+pub(crate) fn smooth_normals(positions: &[Vec3], indices: &[[u32; 3]]) -> Vec<Vec3> {
     let mut acc = vec![glam::DVec3::ZERO; positions.len()];
     for tri in indices {
         let Some(p) = tri
@@ -235,14 +222,15 @@ pub(crate) fn mesh_file(
         // Mitsuba 3 flips OBJ's v, not PLY's; serialized files are used as stored.
         flip_tex_coords: kind != MeshFile::Serialized && a.bool("flip_tex_coords")?,
     };
-    let mesh = match kind {
-        MeshFile::Obj => TriangleMesh::from_obj(&path, &to_world, &opts),
-        MeshFile::Ply => TriangleMesh::from_ply(&path, &to_world, &opts),
+    let data = match kind {
+        MeshFile::Obj => super::obj::read_obj(&path),
+        MeshFile::Ply => super::ply::read_ply(&path),
+        // Mesh `shape_index` of the file.
         MeshFile::Serialized => {
-            let index = a.int("shape_index")? as u32;
-            TriangleMesh::from_serialized(&path, index, &to_world, &opts)
+            super::serialized::read_serialized(&path, a.int("shape_index")? as u32)
         }
     };
+    let mesh = data.and_then(|d| TriangleMesh::from_data(d, &path, &to_world, &opts));
     let mesh = match mesh {
         Err(LoadError::Mesh {
             source: MeshError::Empty { dropped },

@@ -117,16 +117,11 @@ fn shading_normals_interpolate_and_default_uvs_follow_mitsuba() {
     let p = vec![Vec3::ZERO, Vec3::X, Vec3::Y];
     let n = vec![Vec3::Z, Vec3::new(1.0, 0.0, 1.0), Vec3::new(0.0, 1.0, 1.0)];
     let id = Transform::IDENTITY;
-    let m = TriangleMesh::new(
-        p.clone(),
-        Some(n.clone()),
-        None,
-        vec![[0, 1, 2]],
-        &id,
-        false,
-        false,
-    )
-    .unwrap();
+    let mesh = |face_normals| {
+        let (p, n) = (p.clone(), Some(n.clone()));
+        TriangleMesh::new(p, n, None, vec![[0, 1, 2]], &id, false, face_normals).unwrap()
+    };
+    let m = mesh(false);
     let ray = Ray::new(Vec3::new(0.25, 0.25, 1.0), -Vec3::Z);
     let si = hit_prim(&m, &ray).unwrap();
     let (b1, b2) = (0.25f32, 0.25f32);
@@ -138,16 +133,7 @@ fn shading_normals_interpolate_and_default_uvs_follow_mitsuba() {
         "{:?}",
         si.uv
     );
-    let flat = TriangleMesh::new(
-        p.clone(),
-        Some(n.clone()),
-        None,
-        vec![[0, 1, 2]],
-        &id,
-        false,
-        true,
-    )
-    .unwrap();
+    let flat = mesh(true);
     assert!((hit_prim(&flat, &ray).unwrap().ns - Vec3::Z).length() < 1e-6);
     let flip = TriangleMesh::new(p, Some(n), None, vec![[0, 1, 2]], &id, true, false).unwrap();
     let sf = hit_prim(&flip, &ray).unwrap();
@@ -238,18 +224,12 @@ fn sampling_integrates_to_the_rectangle_solid_angle() {
     let m = TriangleMesh::rectangle(&t, false).unwrap();
     let r = Vec3::new(0.0, 0.0, d as f32);
     let mut rng = Pcg32::new(12, 1);
-    let n = 200_000;
-    let (mut s1, mut s2) = (0.0f64, 0.0f64);
-    for _ in 0..n {
+    let (mean, sigma) = crate::shape::test_util::mean_and_error(200_000, || {
         let s = m.sample_direct(r, rng.next_vec2()).unwrap();
         let pdf = m.pdf_direct(r, s.p, s.n);
         assert!((pdf - s.pdf).abs() <= 1e-5 * pdf);
-        let x = 1.0 / s.pdf as f64;
-        s1 += x;
-        s2 += x * x;
-    }
-    let mean = s1 / n as f64;
-    let sigma = ((s2 / n as f64 - mean * mean) / n as f64).sqrt();
+        1.0 / s.pdf as f64
+    });
     let want = 4.0 * (a * b / ((a * a + d * d) * (b * b + d * d)).sqrt()).asin();
     assert!(
         (mean - want).abs() < 4.0 * sigma,

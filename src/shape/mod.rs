@@ -57,7 +57,7 @@ pub mod alias;
 pub mod cube;
 pub mod cylinder;
 pub mod disk;
-pub mod litter;
+pub(crate) mod litter;
 pub mod load;
 pub mod mesh;
 pub mod obj;
@@ -67,10 +67,12 @@ pub mod rectangle;
 pub mod serialized;
 pub mod snake;
 pub mod sphere;
+#[cfg(test)]
+mod test_util;
 pub mod torus;
 
 pub use cylinder::Cylinder;
-pub use disk::Disk;
+pub(crate) use disk::Disk;
 pub use load::{LoadError, MeshData, MeshOptions};
 pub use mesh::{MeshError, TriangleMesh};
 pub use sphere::Sphere;
@@ -111,7 +113,7 @@ impl Shape {
     }
 
     /// World-space bounds of one primitive.
-    pub fn prim_bounds(&self, prim: u32) -> Bounds3 {
+    pub(crate) fn prim_bounds(&self, prim: u32) -> Bounds3 {
         match self {
             Shape::Sphere(s) => s.bounds(),
             Shape::Disk(d) => d.bounds(),
@@ -123,28 +125,12 @@ impl Shape {
     /// Intersects one primitive; returns the ray parameter in (0, ray.t_max) and the
     /// shape-specific hit coordinates.
     #[inline]
-    pub fn intersect_prim(&self, prim: u32, ray: &Ray) -> Option<(f32, Vec2)> {
+    pub(crate) fn intersect_prim(&self, prim: u32, ray: &Ray) -> Option<(f32, Vec2)> {
         match self {
             Shape::Sphere(s) => s.intersect(ray),
             Shape::Disk(d) => d.intersect(ray),
             Shape::Cylinder(c) => c.intersect(ray),
             Shape::Mesh(m) => m.intersect_triangle(prim, ray),
-        }
-    }
-
-    /// [`Shape::intersect_prim`] with the ray's triangle shear precomputed (BVH traversal).
-    #[inline]
-    pub fn intersect_prim_sheared(
-        &self,
-        prim: u32,
-        ray: &Ray,
-        sr: &mesh::ShearedRay,
-    ) -> Option<(f32, Vec2)> {
-        match self {
-            Shape::Sphere(s) => s.intersect(ray),
-            Shape::Disk(d) => d.intersect(ray),
-            Shape::Cylinder(c) => c.intersect(ray),
-            Shape::Mesh(m) => m.intersect_triangle_sheared(prim, ray, sr),
         }
     }
 
@@ -180,7 +166,7 @@ impl Shape {
 
     /// Samples a point on the shape as seen from `ref_p`, with the density in solid angle.
     /// Spheres sample the cone of directions they subtend; other shapes sample area uniformly.
-    pub fn sample_direct(&self, ref_p: Vec3, u: Vec2) -> Option<ShapeSample> {
+    pub(crate) fn sample_direct(&self, ref_p: Vec3, u: Vec2) -> Option<ShapeSample> {
         match self {
             Shape::Sphere(s) => s.sample_direct(ref_p, u),
             Shape::Disk(d) => d.sample_direct(ref_p, u),
@@ -191,7 +177,7 @@ impl Shape {
 
     /// Solid-angle density of [`Shape::sample_direct`] choosing the point `p` (normal `n`) on the
     /// shape, hit from `ref_p`.
-    pub fn pdf_direct(&self, ref_p: Vec3, p: Vec3, n: Vec3) -> f32 {
+    pub(crate) fn pdf_direct(&self, ref_p: Vec3, p: Vec3, n: Vec3) -> f32 {
         match self {
             Shape::Sphere(s) => s.pdf_direct(ref_p, p, n),
             Shape::Disk(d) => d.pdf_direct(ref_p, p, n),
@@ -229,14 +215,9 @@ pub(crate) fn positive_finite(x: f32) -> bool {
     x > 0.0 && x.is_finite()
 }
 
-/// Applies an object-to-world transform used by shapes (re-exported for loaders).
-pub fn transform_or_identity(t: Option<Transform>) -> Transform {
-    t.unwrap_or(Transform::IDENTITY)
-}
-
 /// The shapes one `<shape>` element makes, each with the name of its part (`None` for a
 /// plain shape; a `snake` names its `body`, `belly`, `head` and `eyes`), or none at all.
-pub type Parts = Vec<(Option<&'static str>, Shape)>;
+pub(crate) type Parts = Vec<(Option<&'static str>, Shape)>;
 
 /// `to_world` and `flip_normals`, which every shape plugin takes.
 pub(crate) const PLACEMENT: &[crate::plugin::Param] = &[

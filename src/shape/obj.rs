@@ -26,9 +26,7 @@ use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hasher};
 use std::path::Path;
 
-declare!(
-    /// The `obj` plugin.
-    pub(crate) PLUGIN: super::Parts, crate::math::Transform = Shape "obj" []
+declare!(PLUGIN: super::Parts, crate::math::Transform = Shape "obj" []
     "Wavefront OBJ triangle mesh"
     [super::load::MESH_FILE, &[Param::bool("flip_tex_coords", true)
         .doc("v ↦ 1 − v (Mitsuba 3 flips OBJ's, not PLY's)")], super::PLACEMENT] load);
@@ -38,7 +36,7 @@ fn load(a: &mut Args, parent: crate::math::Transform) -> Result<super::Parts, Sc
 }
 
 /// Reads an OBJ file.
-pub fn read_obj(path: &Path) -> Result<MeshData, LoadError> {
+pub(crate) fn read_obj(path: &Path) -> Result<MeshData, LoadError> {
     let bytes = read_file(path)?;
     parse_obj(&bytes, path)
 }
@@ -67,7 +65,7 @@ impl Hasher for KeyHasher {
 const NONE: u32 = u32::MAX;
 
 /// Parses OBJ text; `path` only names the source in errors.
-pub fn parse_obj(bytes: &[u8], path: &Path) -> Result<MeshData, LoadError> {
+pub(crate) fn parse_obj(bytes: &[u8], path: &Path) -> Result<MeshData, LoadError> {
     let err = |line: usize, message: String| LoadError::Syntax {
         path: path.to_path_buf(),
         line,

@@ -41,7 +41,9 @@ fn reads_all_corner_forms_quads_and_negative_indices() {
     let uvs = d.uvs.as_ref().unwrap();
     assert_eq!(uvs[2], Vec2::new(1.0, 1.0));
     // Through the mesh constructor with Mitsuba's default v flip.
-    let m = TriangleMesh::from_obj(&p, &Transform::IDENTITY, &MeshOptions::default()).unwrap();
+    let opts = MeshOptions::default();
+    let m =
+        TriangleMesh::from_data(read_obj(&p).unwrap(), &p, &Transform::IDENTITY, &opts).unwrap();
     assert_eq!(m.triangle_count(), 3);
 }
 

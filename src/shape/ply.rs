@@ -28,9 +28,7 @@ use crate::math::{Vec2, Vec3};
 use crate::plugin::{declare, Args, Param, SceneError};
 use std::path::{Path, PathBuf};
 
-declare!(
-    /// The `ply` plugin.
-    pub(crate) PLUGIN: super::Parts, crate::math::Transform = Shape "ply" []
+declare!(PLUGIN: super::Parts, crate::math::Transform = Shape "ply" []
     "Stanford PLY triangle mesh (ASCII or binary)"
     [super::load::MESH_FILE, &[Param::bool("flip_tex_coords", false)
         .doc("v ↦ 1 − v (Mitsuba 3 flips OBJ's, not PLY's)")], super::PLACEMENT] load);
@@ -150,22 +148,9 @@ impl Body<'_> {
                 self.remaining()
             )));
         }
-        let mut b = [0u8; 8];
-        b[..n].copy_from_slice(&self.data[self.pos..self.pos + n]);
+        let v = fast::decode(ty, &self.data[self.pos..], self.format == Format::Big);
         self.pos += n;
-        if self.format == Format::Big {
-            b[..n].reverse();
-        }
-        Ok(match ty {
-            Ty::I8 => b[0] as i8 as f64,
-            Ty::U8 => b[0] as f64,
-            Ty::I16 => i16::from_le_bytes([b[0], b[1]]) as f64,
-            Ty::U16 => u16::from_le_bytes([b[0], b[1]]) as f64,
-            Ty::I32 => i32::from_le_bytes([b[0], b[1], b[2], b[3]]) as f64,
-            Ty::U32 => u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as f64,
-            Ty::F32 => f32::from_le_bytes([b[0], b[1], b[2], b[3]]) as f64,
-            Ty::F64 => f64::from_le_bytes(b),
-        })
+        Ok(v)
     }
 
     fn ascii_value(&mut self, ty: Ty) -> Result<f64, LoadError> {
@@ -205,7 +190,7 @@ impl Body<'_> {
 }
 
 /// Parses PLY bytes; `path` only names the source in errors.
-pub fn parse_ply(bytes: &[u8], path: &Path) -> Result<MeshData, LoadError> {
+pub(crate) fn parse_ply(bytes: &[u8], path: &Path) -> Result<MeshData, LoadError> {
     let (format, elements, body_start, header_lines) = parse_header(bytes, path)?;
     let mut body = Body {
         data: &bytes[body_start..],

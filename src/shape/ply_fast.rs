@@ -15,9 +15,10 @@ use std::sync::atomic::{AtomicBool, Ordering};
 /// Below this many records an element is decoded on the current thread.
 const PARALLEL_MIN: usize = 1 << 15;
 
-/// The value of type `ty` at the start of `b`, converted as the general reader converts it.
+/// The value of type `ty` at the start of `b` (big-endian if `big`), as an f64: how both the
+/// general reader and the fast paths convert a binary value.
 #[inline(always)]
-fn decode(ty: Ty, b: &[u8], big: bool) -> f64 {
+pub(super) fn decode(ty: Ty, b: &[u8], big: bool) -> f64 {
     let n = ty.size();
     let mut a = [0u8; 8];
     a[..n].copy_from_slice(&b[..n]);

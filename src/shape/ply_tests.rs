@@ -123,8 +123,8 @@ fn reads_binary_little_and_big_endian_with_any_types() {
 fn loads_through_the_mesh_constructor() {
     let p = write("c.ply", &binary(false, "float", "uchar", "int", true));
     let opts = crate::shape::MeshOptions::default();
-    let m =
-        crate::shape::TriangleMesh::from_ply(&p, &crate::math::Transform::IDENTITY, &opts).unwrap();
+    let t = crate::math::Transform::IDENTITY;
+    let m = crate::shape::TriangleMesh::from_data(read_ply(&p).unwrap(), &p, &t, &opts).unwrap();
     assert_eq!(m.triangle_count(), 3);
     assert!(m.has_vertex_normals() && m.has_uvs());
 }

@@ -21,15 +21,7 @@ impl TriangleMesh {
         ];
         let uvs = vec![Vec2::ZERO, Vec2::X, Vec2::ONE, Vec2::Y];
         let indices = vec![[0, 1, 2], [0, 2, 3]];
-        TriangleMesh::new(
-            positions,
-            None,
-            Some(uvs),
-            indices,
-            to_world,
-            flip_normals,
-            true,
-        )
+        flat(positions, uvs, indices, to_world, flip_normals)
     }
 
     /// Mitsuba's `cube`.
@@ -55,14 +47,25 @@ impl TriangleMesh {
                 indices.push([base, base + 2, base + 3]);
             }
         }
-        TriangleMesh::new(
-            positions,
-            None,
-            Some(uvs),
-            indices,
-            to_world,
-            flip_normals,
-            true,
-        )
+        flat(positions, uvs, indices, to_world, flip_normals)
     }
+}
+
+/// A flat-shaded mesh with UVs and face normals, as both primitives are.
+fn flat(
+    positions: Vec<Vec3>,
+    uvs: Vec<Vec2>,
+    indices: Vec<[u32; 3]>,
+    to_world: &Transform,
+    flip_normals: bool,
+) -> Result<TriangleMesh, MeshError> {
+    TriangleMesh::new(
+        positions,
+        None,
+        Some(uvs),
+        indices,
+        to_world,
+        flip_normals,
+        true,
+    )
 }

@@ -11,9 +11,7 @@ use super::{Parts, Shape, TriangleMesh};
 use crate::math::Transform;
 use crate::plugin::{declare, Args, SceneError};
 
-declare!(
-    /// The `rectangle` plugin.
-    pub(crate) PLUGIN: Parts, Transform = Shape "rectangle" []
+declare!(PLUGIN: Parts, Transform = Shape "rectangle" []
     "the square [−1, 1]² in the local xy-plane, normal +z, as two triangles"
     [super::PLACEMENT] load);
 

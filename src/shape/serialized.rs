@@ -37,9 +37,7 @@ use flate2::read::ZlibDecoder;
 use std::io::Read;
 use std::path::Path;
 
-declare!(
-    /// The `serialized` plugin.
-    pub(crate) PLUGIN: super::Parts, crate::math::Transform = Shape "serialized" []
+declare!(PLUGIN: super::Parts, crate::math::Transform = Shape "serialized" []
     "a mesh of Mitsuba's compressed format (versions 3 and 4)"
     [super::load::MESH_FILE, &[Param::int("shape_index", 0)
         .check(Check::Range(0.0, 4294967295.0))
@@ -60,7 +58,7 @@ const MAX_NAME: usize = 1 << 16;
 const CHUNK: usize = 1 << 20;
 
 /// Reads mesh `shape_index` of a `.serialized` file.
-pub fn read_serialized(path: &Path, shape_index: u32) -> Result<MeshData, LoadError> {
+pub(crate) fn read_serialized(path: &Path, shape_index: u32) -> Result<MeshData, LoadError> {
     let bytes = read_file(path)?;
     parse_serialized(&bytes, path, shape_index)
 }
@@ -252,7 +250,7 @@ impl Stream<'_> {
 }
 
 /// Parses mesh `shape_index` of the bytes of a `.serialized` file (`path` names it in errors).
-pub fn parse_serialized(
+pub(crate) fn parse_serialized(
     bytes: &[u8],
     path: &Path,
     shape_index: u32,

@@ -104,7 +104,8 @@ use super::load::MeshData;
 use super::mesh::{MeshError, TriangleMesh};
 use crate::math::Transform;
 use crate::plugin::{declare, Args, Check, DefaultValue, Param, SceneError, Ty};
-pub use crate::texture::head_shields::{EYE_OFFSET, EYE_V};
+pub(crate) use crate::texture::head_shields::{EYE_OFFSET, EYE_V};
+#[cfg(test)]
 use std::collections::HashMap;
 
 /// A fraction in (0, hi] of something (the manual's unit says of what).
@@ -114,21 +115,15 @@ const fn part(name: &'static str, default: f32, hi: f64, unit: &'static str) -> 
         .unit(unit)
 }
 
-declare!(
-    /// The `snake` plugin: one shape per part (see the header).
-    pub(crate) PLUGIN: super::Parts, Transform = Shape "snake" []
+declare!(PLUGIN: super::Parts, Transform = Shape "snake" []
     "a procedural sunbeam snake on the ground, one mesh per part (body, belly, head, eyes)"
     [&[
         Param::string("pose", "s_curve")
             .check(Check::OneOf(&["s_curve", "coil"]))
             .doc("how it lies"),
-        Param::float("length", 4.0)
-            .check(Check::Positive)
-            .unit("world units")
+        Param::length("length", 4.0)
             .doc("length along the centreline"),
-        Param::float("radius", 0.06)
-            .check(Check::Positive)
-            .unit("world units")
+        Param::length("radius", 0.06)
             .doc("largest body half-width"),
         Param::float("waves", 1.25).doc("`s_curve`: periods along the body"),
         Param::float("amplitude", 0.45)
@@ -158,8 +153,7 @@ declare!(
             .check(Check::Range(-180.0, 180.0))
             .unit("degrees")
             .doc("turn a stretch of the body about its centreline (shows the belly)"),
-        Param::float("roll_at", 0.5)
-            .check(Check::Range(0.0, 1.0))
+        Param::fraction("roll_at", 0.5)
             .unit("of length")
             .doc("centre of the rolled stretch"),
         part("roll_span", 0.25, 1.0, "of length")
@@ -235,14 +229,14 @@ fn load(a: &mut Args, parent: Transform) -> Result<super::Parts, SceneError> {
 
 /// How the snake lies.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Pose {
+pub(crate) enum Pose {
     SCurve,
     Coil,
 }
 
 impl Pose {
     /// The XML name.
-    pub fn from_name(s: &str) -> Option<Pose> {
+    pub(crate) fn from_name(s: &str) -> Option<Pose> {
         match s {
             "s_curve" => Some(Pose::SCurve),
             "coil" => Some(Pose::Coil),
@@ -253,7 +247,7 @@ impl Pose {
 
 /// A part of the snake with its own shape and material.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Part {
+pub(crate) enum Part {
     Body,
     Belly,
     Head,
@@ -271,13 +265,14 @@ impl Part {
         }
     }
 
+    #[cfg(test)]
     /// All parts, in the order they become shapes.
     pub const ALL: [Part; 4] = [Part::Body, Part::Belly, Part::Head, Part::Eyes];
 }
 
 /// Shape parameters (see the module header).
 #[derive(Clone, Debug, PartialEq)]
-pub struct SnakeParams {
+pub(crate) struct SnakeParams {
     pub pose: Pose,
     pub length: f32,
     pub radius: f32,
@@ -336,44 +331,34 @@ impl Default for SnakeParams {
 }
 
 /// The parts' meshes in object space (body, belly, head, and the eyes if asked for).
-pub fn snake_parts(p: &SnakeParams) -> Vec<(Part, MeshData)> {
+pub(crate) fn snake_parts(p: &SnakeParams) -> Vec<(Part, MeshData)> {
     build::parts(p)
 }
 
 /// Where the pose makes the body pass through itself, as two positions t = s/`length` (equal
 /// for a bend tighter than the body is wide), checked at `stations` points along it.
-pub fn self_intersection(p: &SnakeParams, stations: usize) -> Option<(f64, f64)> {
+pub(crate) fn self_intersection(p: &SnakeParams, stations: usize) -> Option<(f64, f64)> {
     pose::self_intersection(p, stations)
 }
 
 impl TriangleMesh {
     /// The `snake` shape's parts as meshes.
-    pub fn snake_parts(
+    pub(crate) fn snake_parts(
         p: &SnakeParams,
         to_world: &Transform,
         flip_normals: bool,
     ) -> Result<Vec<(Part, TriangleMesh)>, MeshError> {
         snake_parts(p)
             .into_iter()
-            .map(|(part, g)| {
-                let m = TriangleMesh::new(
-                    g.positions,
-                    g.normals,
-                    g.uvs,
-                    g.indices,
-                    to_world,
-                    flip_normals,
-                    false,
-                )?;
-                Ok((part, m))
-            })
+            .map(|(part, g)| Ok((part, g.into_mesh(to_world, flip_normals, false)?)))
             .collect()
     }
 }
 
+#[cfg(test)]
 /// Checks that a mesh is closed and consistently wound: vertices welded by exact position, every
 /// edge is used by exactly two triangles, once in each direction, and no triangle has zero area.
-pub fn check_closed_mesh(g: &MeshData) -> Result<(), String> {
+pub(crate) fn check_closed_mesh(g: &MeshData) -> Result<(), String> {
     let mut ids: HashMap<[u32; 3], u32> = HashMap::new();
     let weld: Vec<u32> = g
         .positions

@@ -29,16 +29,13 @@ use super::{area_to_solid_angle, Hit, ShapeError, ShapeSample, SurfaceInteractio
 use crate::math::{
     safe_sqrt, warp, Bounds3, Frame, Mat3, Ray, Transform, Vec2, Vec3, INV_2PI, INV_PI, PI,
 };
-use crate::plugin::{declare, Args, DefaultValue, Param, SceneError, Ty};
+use crate::plugin::{declare, Args, Param, SceneError};
 use glam::DVec3;
 
-declare!(
-    /// The `sphere` plugin.
-    pub(crate) PLUGIN: super::Parts, Transform = Shape "sphere" []
+declare!(PLUGIN: super::Parts, Transform = Shape "sphere" []
     "analytic sphere"
     [&[
-        Param::new("center", Ty::Point, DefaultValue::Derived("(0, 0, 0)"))
-            .unit("object space")
+        Param::object_point("center", "(0, 0, 0)")
             .doc("centre"),
         super::RADIUS,
     ], super::PLACEMENT] load);

@@ -2,14 +2,7 @@ use super::*;
 use crate::math::Pcg32;
 
 fn hit(s: &Sphere, ray: &Ray) -> Option<SurfaceInteraction> {
-    let (t, uv) = s.intersect(ray)?;
-    let h = Hit {
-        t,
-        shape: 0,
-        prim: 0,
-        uv,
-    };
-    Some(s.interaction(&h, ray))
+    crate::shape::test_util::first_hit(s.intersect(ray), |h| s.interaction(h, ray))
 }
 
 #[test]
@@ -181,18 +174,12 @@ fn inside_sampling_covers_all_directions() {
     let s = Sphere::simple(Vec3::new(1.0, 0.0, 0.0), 2.0);
     let r = Vec3::new(1.5, 0.7, -0.9);
     let mut rng = Pcg32::new(99, 1);
-    let n = 200_000;
-    let (mut sum, mut sum2) = (0.0f64, 0.0f64);
-    for _ in 0..n {
+    let (mean, sigma) = crate::shape::test_util::mean_and_error(200_000, || {
         let smp = s.sample_direct(r, rng.next_vec2()).unwrap();
         let pdf = s.pdf_direct(r, smp.p, smp.n);
         assert!((pdf - smp.pdf).abs() <= 1e-4 * pdf);
-        let x = 1.0 / smp.pdf as f64;
-        sum += x;
-        sum2 += x * x;
-    }
-    let mean = sum / n as f64;
-    let sigma = ((sum2 / n as f64 - mean * mean) / n as f64).sqrt();
+        1.0 / smp.pdf as f64
+    });
     let want = 4.0 * std::f64::consts::PI;
     assert!((mean - want).abs() < 4.0 * sigma, "{mean} ± {sigma}");
 }

@@ -36,18 +36,12 @@ use crate::math::{Transform, Vec2};
 use crate::plugin::{declare, Args, Check, DefaultValue, Param, SceneError, Ty};
 use std::f64::consts::TAU;
 
-declare!(
-    /// The `torus` plugin.
-    pub(crate) PLUGIN: super::Parts, Transform = Shape "torus" []
+declare!(PLUGIN: super::Parts, Transform = Shape "torus" []
     "a ring (a fine mesh with the analytic torus's normals and UVs)"
     [&[
-        Param::float("major_radius", 1.0)
-            .check(Check::Positive)
-            .unit("world units")
+        Param::length("major_radius", 1.0)
             .doc("axis to the tube's centre"),
-        Param::float("minor_radius", 0.25)
-            .check(Check::Positive)
-            .unit("world units")
+        Param::length("minor_radius", 0.25)
             .doc("tube radius (less than `major_radius`)"),
         Param::new("segments_major", Ty::Integer, DefaultValue::Derived("128·R/r (64…2048)"))
             .check(Check::Range(3.0, 8192.0))
@@ -75,16 +69,16 @@ fn load(a: &mut Args, parent: Transform) -> Result<super::Parts, SceneError> {
 }
 
 /// Default quads around the tube.
-pub const DEFAULT_SEGMENTS_MINOR: u32 = 128;
+pub(crate) const DEFAULT_SEGMENTS_MINOR: u32 = 128;
 
 /// Default quads around the axis for radii `major`, `minor`: facets about as wide as around the
 /// tube at its outer equator.
-pub fn default_segments_major(major: f32, minor: f32) -> u32 {
+pub(crate) fn default_segments_major(major: f32, minor: f32) -> u32 {
     ((DEFAULT_SEGMENTS_MINOR as f32 * (major + minor) / minor).round() as u32).clamp(64, 2048)
 }
 
 /// Vertices, exact normals, UVs and triangles of the torus (object space).
-pub fn torus_geometry(major: f32, minor: f32, n_major: u32, n_minor: u32) -> MeshData {
+pub(crate) fn torus_geometry(major: f32, minor: f32, n_major: u32, n_minor: u32) -> MeshData {
     let (nu, nv) = (n_major.max(3) as usize, n_minor.max(3) as usize);
     let (big, small) = (major as f64, minor as f64);
     let mut positions = Vec::with_capacity((nu + 1) * (nv + 1));
@@ -133,21 +127,13 @@ impl TriangleMesh {
     ) -> Result<TriangleMesh, MeshError> {
         let (nu, nv) =
             segments.unwrap_or((default_segments_major(major, minor), DEFAULT_SEGMENTS_MINOR));
-        let g = torus_geometry(major, minor, nu, nv);
-        TriangleMesh::new(
-            g.positions,
-            g.normals,
-            g.uvs,
-            g.indices,
-            to_world,
-            flip_normals,
-            false,
-        )
+        torus_geometry(major, minor, nu, nv).into_mesh(to_world, flip_normals, false)
     }
 }
 
+#[cfg(test)]
 /// Signed distance from the analytic torus (negative inside the tube).
-pub fn torus_distance(p: glam::DVec3, major: f64, minor: f64) -> f64 {
+pub(crate) fn torus_distance(p: glam::DVec3, major: f64, minor: f64) -> f64 {
     let q = (p.x * p.x + p.y * p.y).sqrt() - major;
     (q * q + p.z * p.z).sqrt() - minor
 }

@@ -26,9 +26,7 @@ use crate::spectrum::rgb2spec::{rgb_to_sigmoid, SigmoidPolynomial};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use std::sync::Arc;
 
-declare!(
-    /// The `bitmap` plugin.
-    pub(crate) PLUGIN: Texture, Want = Texture "bitmap" []
+declare!(PLUGIN: Texture, Want = Texture "bitmap" []
     "an image: EXR, Radiance HDR, PNG or JPEG"
     [&[
             Param::new("filename", Ty::String, DefaultValue::Required)
@@ -199,14 +197,6 @@ impl Bitmap {
     pub fn value(&self, uv: Vec2) -> f32 {
         let c = self.rgb(uv);
         (c[0] + c[1] + c[2]) / 3.0
-    }
-
-    /// Largest channel value anywhere.
-    pub fn max_value(&self) -> f32 {
-        self.rgb
-            .iter()
-            .flat_map(|c| c.iter().copied())
-            .fold(0.0, f32::max)
     }
 }
 

@@ -16,22 +16,12 @@ use super::{uv_transform, FloatTexture, SpectrumTexture, Texture, Want};
 use crate::math::{Mat3, Vec2};
 use crate::plugin::{declare, Args, DefaultValue, Param, SceneError, SpectrumKind, Ty};
 
-declare!(
-    /// The `checkerboard` plugin.
-    pub(crate) PLUGIN: Texture, Want = Texture "checkerboard" []
+declare!(PLUGIN: Texture, Want = Texture "checkerboard" []
     "two colours in a checkerboard over UV"
     [&[
-            Param::new(
-                "color0",
-                Ty::Spectrum(SpectrumKind::Albedo),
-                DefaultValue::Float(0.4),
-            )
+            Param::colour("color0", 0.4)
             .doc("colour of one set of squares"),
-            Param::new(
-                "color1",
-                Ty::Spectrum(SpectrumKind::Albedo),
-                DefaultValue::Float(0.2),
-            )
+            Param::colour("color1", 0.2)
             .doc("colour of the other"),
             Param::new("to_uv", Ty::Transform, DefaultValue::Derived("identity"))
                 .doc("applied to the surface UV first"),

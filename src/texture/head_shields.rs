@@ -19,12 +19,12 @@
 use crate::math::Vec2;
 
 /// Cell-space units across the head map (a shield is about one unit wide).
-pub const HEAD_CELLS: f32 = 8.0;
+pub(crate) const HEAD_CELLS: f32 = 8.0;
 
 /// Where the eye sits on the map: its offset from the midline and its v (the `snake` shape
 /// puts its eyes here, between the pre- and postocular shields).
-pub const EYE_OFFSET: f32 = 0.22;
-pub const EYE_V: f32 = 0.47;
+pub(crate) const EYE_OFFSET: f32 = 0.22;
+pub(crate) const EYE_V: f32 = 0.47;
 
 /// Seeds on one side of the crown's midline, as (offset from u = 0.5, v); those at offset 0
 /// lie on the midline and appear once.
@@ -87,8 +87,9 @@ pub fn seeds() -> Vec<Vec2> {
     out
 }
 
+#[cfg(test)]
 /// How many of [`seeds`] are shields on the head (the rest only close the edges).
-pub fn shields() -> usize {
+pub(crate) fn shields() -> usize {
     let per_side = |list: &[(f32, f32)]| -> usize {
         list.iter()
             .map(|&(du, _)| if du > 0.0 { 2 } else { 1 })

@@ -9,13 +9,13 @@ use std::sync::Arc;
 
 pub mod bitmap;
 pub mod checkerboard;
-pub mod head_shields;
+pub(crate) mod head_shields;
 pub mod per_scale;
 pub mod scales;
 
-pub use bitmap::Bitmap;
-pub use per_scale::PerScale;
-pub use scales::{Layout, Scales};
+pub(crate) use bitmap::Bitmap;
+pub(crate) use per_scale::PerScale;
+pub(crate) use scales::Scales;
 
 /// What a texture is asked for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -106,18 +106,6 @@ impl SpectrumTexture {
             }
         }
     }
-
-    /// Largest value anywhere (for bounds and power estimates).
-    pub fn max_value(&self) -> f32 {
-        match self {
-            SpectrumTexture::Constant(s) => s.max_value(),
-            SpectrumTexture::Bitmap(b) => b.max_value(),
-            SpectrumTexture::Checkerboard { color0, color1, .. }
-            | SpectrumTexture::Scales { color0, color1, .. } => {
-                color0.max_value().max(color1.max_value())
-            }
-        }
-    }
 }
 
 /// A scalar texture.
@@ -164,7 +152,7 @@ impl FloatTexture {
 
     /// Gradient with respect to (u, v), for bump mapping. Piecewise-constant textures
     /// (checkerboard, per-scale values) have none.
-    pub fn gradient(&self, tc: &TexCoord, footprint: Vec2) -> Vec2 {
+    pub(crate) fn gradient(&self, tc: &TexCoord, footprint: Vec2) -> Vec2 {
         match self {
             FloatTexture::Scales(s) => s.gradient(tc.uv, s.cells_across(footprint)),
             FloatTexture::Bitmap(b) => {

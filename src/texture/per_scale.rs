@@ -26,9 +26,7 @@ use crate::math::Vec2;
 use crate::plugin::{declare, Args, Check, DefaultValue, Param, SceneError, Tag, Ty};
 use std::sync::Arc;
 
-declare!(
-    /// The `per_scale` plugin.
-    pub(crate) PLUGIN: Texture, Want = Texture "per_scale" []
+declare!(PLUGIN: Texture, Want = Texture "per_scale" []
     "a number per scale of a `scales` texture (e.g. a film thickness)"
     [&[
             Param::new("(nested)", Ty::Texture, DefaultValue::Required).doc(

@@ -65,7 +65,7 @@
 use super::head_shields::{self, HEAD_CELLS};
 use super::{FloatTexture, NormalSource, SpectrumTexture, Texture, Want};
 use crate::math::Vec2;
-use crate::plugin::{declare, Args, Check, DefaultValue, Param, SceneError, SpectrumKind, Ty};
+use crate::plugin::{declare, Args, Check, Param, SceneError};
 use std::sync::{Arc, OnceLock};
 
 /// How cells are laid out (see the module header).
@@ -82,7 +82,7 @@ pub enum Layout {
 
 impl Layout {
     /// Parses the XML name.
-    pub fn from_name(s: &str) -> Option<Layout> {
+    pub(crate) fn from_name(s: &str) -> Option<Layout> {
         Some(match s {
             "hex" => Layout::Hex,
             "rows" => Layout::Rows,
@@ -108,21 +108,15 @@ const PARAMS: &[Param] = &[
         .check(Check::OpenClosed(0.0, 1e6))
         .unit("1/UV")
         .doc("rows per unit v"),
-    Param::float("irregularity", 0.3)
-        .check(Check::Range(0.0, 1.0))
-        .doc("0 = regular hexagons … 1 = Voronoi-like jitter"),
+    Param::fraction("irregularity", 0.3).doc("0 = regular hexagons … 1 = Voronoi-like jitter"),
     Param::float("gap", 0.08)
         .also(&["line_width"])
         .v06("lineWidth")
         .check(Check::Range(0.0, 0.5))
         .unit("cells")
         .doc("groove width at half height"),
-    Param::float("dome", 0.5)
-        .check(Check::Range(0.0, 1.0))
-        .doc("0 = flat top … 1 = fully rounded"),
-    Param::float("overlap", 0.3)
-        .check(Check::Range(0.0, 1.0))
-        .doc("0 = symmetric … 1 = a ramp rising to the free edge"),
+    Param::fraction("dome", 0.5).doc("0 = flat top … 1 = fully rounded"),
+    Param::fraction("overlap", 0.3).doc("0 = symmetric … 1 = a ramp rising to the free edge"),
     Param::float("overlap_angle", 90.0)
         .unit("degrees")
         .doc("direction of the free edge in cell space (0 = +u, 90 = +v)"),
@@ -138,23 +132,11 @@ const PARAMS: &[Param] = &[
         .doc(
             "cell layout: `hex` (dorsal scales), `rows` (ventral plates) or `head` (head shields)",
         ),
-    Param::new(
-        "color0",
-        Ty::Spectrum(SpectrumKind::Albedo),
-        DefaultValue::Float(0.4),
-    )
-    .doc("colour of the scales (colour lookups)"),
-    Param::new(
-        "color1",
-        Ty::Spectrum(SpectrumKind::Albedo),
-        DefaultValue::Float(0.1),
-    )
-    .doc("colour of the grooves (colour lookups)"),
+    Param::colour("color0", 0.4).doc("colour of the scales (colour lookups)"),
+    Param::colour("color1", 0.1).doc("colour of the grooves (colour lookups)"),
 ];
 
-declare!(
-    /// The `scales` plugin.
-    pub(crate) PLUGIN: Texture, Want = Texture "scales" ["reptileSkin", "reptile_skin"]
+declare!(PLUGIN: Texture, Want = Texture "scales" ["reptileSkin", "reptile_skin"]
     "procedural reptile scales: a height, a colour, or normals"
     [PARAMS] load);
 
@@ -352,7 +334,7 @@ fn period(scale: f32) -> i32 {
 impl Scales {
     /// How many cells a UV footprint (widths along u and v) spans, along its larger axis.
     #[inline]
-    pub fn cells_across(&self, footprint: Vec2) -> f32 {
+    pub(crate) fn cells_across(&self, footprint: Vec2) -> f32 {
         let k = self.cells_per_uv();
         (footprint.x * k.x).max(footprint.y * k.y)
     }
@@ -370,7 +352,7 @@ impl Scales {
 
     /// Cell space coordinates of a UV point.
     #[inline]
-    pub fn to_cell_space(&self, uv: Vec2) -> Vec2 {
+    pub(crate) fn to_cell_space(&self, uv: Vec2) -> Vec2 {
         uv * self.cells_per_uv()
     }
 
@@ -466,7 +448,7 @@ impl Scales {
 
     /// The random id in [0, 1) of the cell under a UV point.
     #[inline]
-    pub fn id_at(&self, uv: Vec2) -> f32 {
+    pub(crate) fn id_at(&self, uv: Vec2) -> f32 {
         unit(self.nearest(uv).1)
     }
 
@@ -476,7 +458,7 @@ impl Scales {
     }
 
     /// The pattern at a UV point seen through a footprint `width` cells wide.
-    pub fn sample_filtered(&self, uv: Vec2, width: f32) -> ScaleSample {
+    pub(crate) fn sample_filtered(&self, uv: Vec2, width: f32) -> ScaleSample {
         self.evaluate(uv, width).0
     }
 
@@ -575,13 +557,13 @@ impl Scales {
 
     /// Gradient of the height with respect to (u, v), in closed form (see [`Scales::evaluate`];
     /// the tests check it against central differences).
-    pub fn gradient(&self, uv: Vec2, width: f32) -> Vec2 {
+    pub(crate) fn gradient(&self, uv: Vec2, width: f32) -> Vec2 {
         self.evaluate(uv, width).1 * self.cells_per_uv()
     }
 
     /// The random tilt of the scale at `uv`: (angle in radians, azimuth in radians measured in
     /// the tangent plane from dp/du). Uniform over a cone of half-angle `tilt`.
-    pub fn tilt_at(&self, uv: Vec2) -> (f32, f32) {
+    pub(crate) fn tilt_at(&self, uv: Vec2) -> (f32, f32) {
         let (_, h) = self.nearest(uv);
         let a = self.tilt * unit(mix(h ^ 0x1b87_3593)).sqrt();
         let phi = 2.0 * std::f32::consts::PI * unit(mix(h ^ 0xcc9e_2d51));

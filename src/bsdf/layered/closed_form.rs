@@ -68,47 +68,44 @@ impl CoatOptics {
 
     /// Reflectance per wavelength for light arriving from outside with cosine `mu` ≥ 0.
     pub fn outside(&self, mu: f32) -> SampledSpectrum {
-        match *self {
-            CoatOptics::Dielectric { eta } => SampledSpectrum::splat(fresnel_dielectric(mu, eta)),
-            CoatOptics::Film {
-                eta,
-                film_ior,
-                thickness_nm,
-                lambda,
-            } => SampledSpectrum::from_fn(|i| {
-                film_rt(
-                    mu as f64,
-                    1.0,
-                    Complex64::new(film_ior[i] as f64, 0.0),
-                    thickness_nm as f64,
-                    Complex64::new(eta as f64, 0.0),
-                    lambda[i] as f64,
-                )
-                .r() as f32
-            }),
-        }
+        self.reflectance(mu, false)
     }
 
     /// Reflectance per wavelength for light arriving from inside the coat with cosine `mu`.
     pub fn inside(&self, mu: f32) -> SampledSpectrum {
+        self.reflectance(mu, true)
+    }
+
+    /// Reflectance per wavelength from inside the coat (`inside`) or from outside.
+    fn reflectance(&self, mu: f32, inside: bool) -> SampledSpectrum {
         match *self {
-            CoatOptics::Dielectric { eta } => SampledSpectrum::splat(fresnel_dielectric(-mu, eta)),
+            CoatOptics::Dielectric { eta } => {
+                SampledSpectrum::splat(fresnel_dielectric(if inside { -mu } else { mu }, eta))
+            }
             CoatOptics::Film {
                 eta,
                 film_ior,
                 thickness_nm,
                 lambda,
-            } => SampledSpectrum::from_fn(|i| {
-                film_rt(
-                    mu as f64,
-                    eta as f64,
-                    Complex64::new(film_ior[i] as f64, 0.0),
-                    thickness_nm as f64,
-                    Complex64::new(1.0, 0.0),
-                    lambda[i] as f64,
-                )
-                .r() as f32
-            }),
+            } => {
+                // Indices of the media before and after the film, as the light meets them.
+                let (n0, n2) = if inside {
+                    (eta as f64, 1.0)
+                } else {
+                    (1.0, eta as f64)
+                };
+                SampledSpectrum::from_fn(|i| {
+                    film_rt(
+                        mu as f64,
+                        n0,
+                        Complex64::new(film_ior[i] as f64, 0.0),
+                        thickness_nm as f64,
+                        Complex64::new(n2, 0.0),
+                        lambda[i] as f64,
+                    )
+                    .r() as f32
+                })
+            }
         }
     }
 }
@@ -165,6 +162,22 @@ pub(crate) fn refracted_cos(mu: f32, eta: f32) -> f32 {
     (1.0 - (1.0 - mu * mu) / (eta * eta)).max(0.0).sqrt()
 }
 
+/// The critical cosines of a coat of relative index `eta`: inside, below which light cannot
+/// leave (0 when η ≤ 1), and outside, below which it cannot enter (0 when η ≥ 1).
+fn critical_cosines(eta: f64) -> (f64, f64) {
+    let inside = if eta > 1.0 {
+        (1.0 - 1.0 / (eta * eta)).sqrt()
+    } else {
+        0.0
+    };
+    let outside = if eta < 1.0 {
+        (1.0 - eta * eta).sqrt()
+    } else {
+        0.0
+    };
+    (inside, outside)
+}
+
 /// E, R_r and K (see the module header) of a film coat at one wavelength, by quadrature.
 pub(crate) fn film_integrals_1(
     eta: f64,
@@ -173,16 +186,7 @@ pub(crate) fn film_integrals_1(
     lambda: f64,
     tau: f64,
 ) -> (f64, f64, f64) {
-    let mu_c_in = if eta > 1.0 {
-        (1.0 - 1.0 / (eta * eta)).sqrt()
-    } else {
-        0.0
-    };
-    let mu_c_out = if eta < 1.0 {
-        (1.0 - eta * eta).sqrt()
-    } else {
-        0.0
-    };
+    let (mu_c_in, mu_c_out) = critical_cosines(eta);
     let n_film = Complex64::new(film, 0.0);
     let (mut e, mut r) = (0.0, 0.0);
     for (mu, w) in kinked_nodes(mu_c_in) {
@@ -319,36 +323,29 @@ impl CoatedDiffuse {
             static MEMO: std::cell::RefCell<([Entry; 8], usize)> =
                 const { std::cell::RefCell::new(([None; 8], 0)) };
         }
-        if let CoatOptics::Film { .. } = coat {
-            let (escape, ret, k_norm) = film_integrals_tabulated(coat, tau);
-            return CoatedDiffuse {
-                coat,
-                rho,
-                tau,
-                escape,
-                ret,
-                k_norm,
-            };
-        }
-        let hit = MEMO.with(|m| {
-            m.borrow()
-                .0
-                .iter()
-                .flatten()
-                .find(|e| e.0 == coat && e.1 == tau)
-                .copied()
-        });
-        let (escape, ret, k_norm) = match hit {
-            Some((_, _, e, r, k)) => (e, r, k),
-            None => {
-                let v = Self::integrals(coat, tau);
-                MEMO.with(|m| {
-                    let mut m = m.borrow_mut();
-                    let slot = m.1;
-                    m.0[slot] = Some((coat, tau, v.0, v.1, v.2));
-                    m.1 = (slot + 1) % 8;
-                });
-                v
+        let (escape, ret, k_norm) = if let CoatOptics::Film { .. } = coat {
+            film_integrals_tabulated(coat, tau)
+        } else {
+            let hit = MEMO.with(|m| {
+                m.borrow()
+                    .0
+                    .iter()
+                    .flatten()
+                    .find(|e| e.0 == coat && e.1 == tau)
+                    .copied()
+            });
+            match hit {
+                Some((_, _, e, r, k)) => (e, r, k),
+                None => {
+                    let v = Self::integrals(coat, tau);
+                    MEMO.with(|m| {
+                        let mut m = m.borrow_mut();
+                        let slot = m.1;
+                        m.0[slot] = Some((coat, tau, v.0, v.1, v.2));
+                        m.1 = (slot + 1) % 8;
+                    });
+                    v
+                }
             }
         };
         CoatedDiffuse {
@@ -367,16 +364,7 @@ impl CoatedDiffuse {
         tau: SampledSpectrum,
     ) -> (SampledSpectrum, SampledSpectrum, f32) {
         let eta = coat.eta() as f64;
-        let mu_c_in = if eta > 1.0 {
-            (1.0 - 1.0 / (eta * eta)).sqrt()
-        } else {
-            0.0
-        };
-        let mu_c_out = if eta < 1.0 {
-            (1.0 - eta * eta).sqrt()
-        } else {
-            0.0
-        };
+        let (mu_c_in, mu_c_out) = critical_cosines(eta);
         let mut escape = [0.0f64; N];
         let mut ret = [0.0f64; N];
         for (mu, w) in kinked_nodes(mu_c_in) {
@@ -405,7 +393,7 @@ impl CoatedDiffuse {
     }
 
     /// Lobes: a delta reflection off the coat and the diffuse part.
-    pub fn flags(&self) -> BxdfFlags {
+    pub(crate) fn flags(&self) -> BxdfFlags {
         BxdfFlags::SPECULAR_REFLECTION | BxdfFlags::DIFFUSE_REFLECTION
     }
 
@@ -460,7 +448,7 @@ impl CoatedDiffuse {
     }
 
     /// Exact density of the non-delta samples.
-    pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+    pub(crate) fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
         if wo.z <= 0.0 || wi.z <= 0.0 || self.k_norm <= 0.0 {
             return 0.0;
         }

@@ -59,9 +59,7 @@ use closed_form::{CoatOptics, CoatedDiffuse};
 pub use walk::{Medium, Stack, DEFAULT_MAX_DEPTH, MAX_INTERFACES};
 
 use crate::bsdf::material::{LayerMedium, Material};
-use crate::plugin::{
-    declare, Args, Check, DefaultValue, Param, SceneError, SpectrumKind, Tag, Ty, Value,
-};
+use crate::plugin::{declare, Args, Check, DefaultValue, Param, SceneError, Tag, Ty, Value};
 use crate::spectrum::SampledSpectrum;
 
 /// Parameters the thesis's `multilayered` takes that ophis accepts and ignores (its `pdf` is
@@ -77,9 +75,7 @@ const IGNORED: [&str; 8] = [
     "max_survival_prob",
 ];
 
-declare!(
-    /// The `multilayered` plugin.
-    pub(crate) PLUGIN: Material = Bsdf "multilayered" []
+declare!(PLUGIN: Material = Bsdf "multilayered" []
     "a stack of interfaces and media, by position-free Monte Carlo"
     [
             &[
@@ -93,18 +89,10 @@ declare!(
                 .doc("N, the number of interfaces"),
                 Param::new("surface_i", Ty::Bsdf, DefaultValue::Required)
                     .doc("interface i (0 … N − 1), top first"),
-                Param::new(
-                    "sigma_t_i",
-                    Ty::SpectrumTexture(SpectrumKind::Unbounded),
-                    DefaultValue::Float(0.0),
-                )
+                Param::coefficient("sigma_t_i", 0.0)
                 .v06("sigmaT_i")
                 .doc("extinction of medium i (between surface i and i + 1) = its optical depth"),
-                Param::new(
-                    "albedo_i",
-                    Ty::SpectrumTexture(SpectrumKind::Albedo),
-                    DefaultValue::Float(0.0),
-                )
+                Param::reflectance("albedo_i", 0.0)
                 .doc("single-scattering albedo of medium i"),
                 Param::new("phase_i", Ty::Float, DefaultValue::Float(0.0))
                     .check(Check::Open(-1.0, 1.0))
@@ -270,7 +258,7 @@ fn query_rng(seed: u64, a: Vec3, b: Vec3, c: f32) -> Pcg32 {
 
 /// The coat optics of an interface the closed form can handle (a smooth dielectric with unit
 /// factors; thin-film coats plug in here).
-pub fn coat_optics(b: &Bxdf) -> Option<CoatOptics> {
+pub(crate) fn coat_optics(b: &Bxdf) -> Option<CoatOptics> {
     use crate::bsdf::filmfresnel::FilmMode;
     match b {
         Bxdf::Dielectric(d) if d.r_s == SampledSpectrum::ONE && d.t_s == SampledSpectrum::ONE => {
@@ -330,7 +318,7 @@ impl LayeredBxdf {
     }
 
     /// Lobe flags.
-    pub fn flags(&self) -> BxdfFlags {
+    pub(crate) fn flags(&self) -> BxdfFlags {
         match &self.model {
             LayeredModel::Closed(c) => c.flags(),
             LayeredModel::Walk(s) => {
@@ -374,7 +362,7 @@ impl LayeredBxdf {
     }
 
     /// Sampling density (exact for the closed form, an approximation for MIS otherwise).
-    pub fn pdf(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> f32 {
+    pub(crate) fn pdf(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> f32 {
         match &self.model {
             LayeredModel::Closed(c) => c.pdf(wo, wi),
             LayeredModel::Walk(s) => {

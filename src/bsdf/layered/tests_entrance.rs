@@ -234,18 +234,10 @@ fn sampled_mean(
     g: impl Fn(&BsdfSample) -> f64,
 ) -> Estimate {
     let mut rng = Pcg32::new(seed, 5);
-    let (mut s, mut s2) = (0.0f64, 0.0f64);
-    for _ in 0..n {
+    Estimate::of(n, || {
         let (uc, u) = (rng.next_f32(), rng.next_vec2());
-        let v = b.sample_f(wo, uc, u, RAD).map_or(0.0, |bs| g(&bs));
-        s += v;
-        s2 += v * v;
-    }
-    let m = s / n as f64;
-    Estimate {
-        mean: m,
-        std_err: ((s2 / n as f64 - m * m).max(0.0) / (n as f64 - 1.0)).sqrt(),
-    }
+        b.sample_f(wo, uc, u, RAD).map_or(0.0, |bs| g(&bs))
+    })
 }
 
 #[test]

@@ -48,17 +48,7 @@ fn f_fresh(b: &Bxdf, wo: Vec3, wi: Vec3, rng: &mut Pcg32) -> SampledSpectrum {
 
 /// Mean and standard error of channel 0 of `n` calls.
 fn mean_of(n: usize, mut f: impl FnMut() -> f32) -> Estimate {
-    let (mut s, mut s2) = (0.0f64, 0.0f64);
-    for _ in 0..n {
-        let v = f() as f64;
-        s += v;
-        s2 += v * v;
-    }
-    let m = s / n as f64;
-    Estimate {
-        mean: m,
-        std_err: ((s2 / n as f64 - m * m).max(0.0) / (n as f64 - 1.0)).sqrt(),
-    }
+    Estimate::of(n, || f() as f64)
 }
 
 fn close(e: &Estimate, want: f64, what: &str) {

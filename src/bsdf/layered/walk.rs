@@ -57,7 +57,7 @@ impl Medium {
         }
     }
     /// Whether any wavelength scatters.
-    pub fn scatters(&self) -> bool {
+    pub(crate) fn scatters(&self) -> bool {
         !(self.albedo * self.sigma_t).is_black()
     }
     fn tr(&self, dist: f32) -> SampledSpectrum {
@@ -66,13 +66,13 @@ impl Medium {
 }
 
 /// Henyey–Greenstein phase function of the angle between propagation directions.
-pub fn hg(cos: f32, g: f32) -> f32 {
+pub(crate) fn hg(cos: f32, g: f32) -> f32 {
     let d = 1.0 + g * g - 2.0 * g * cos;
     INV_4PI * (1.0 - g * g) / (d * d.max(1e-12).sqrt())
 }
 
 /// Samples a new propagation direction around `d`; returns it and its density.
-pub fn hg_sample(d: Vec3, g: f32, rng: &mut Pcg32) -> (Vec3, f32) {
+pub(crate) fn hg_sample(d: Vec3, g: f32, rng: &mut Pcg32) -> (Vec3, f32) {
     let (u1, u2) = (rng.next_f32(), rng.next_f32());
     let cos = if g.abs() < 1e-3 {
         1.0 - 2.0 * u1
@@ -217,7 +217,7 @@ impl Stack {
     /// The weight of transmission against reflection in the top interface's first choice from
     /// above (`super::entrance`): 1, the interface's own choice, unless the stack is a rough
     /// coat over a Lambertian base; any value in (0, 1] keeps the walk unbiased.
-    pub fn entrance_weight(&self) -> f32 {
+    pub(crate) fn entrance_weight(&self) -> f32 {
         self.t_weight
     }
 
@@ -229,7 +229,7 @@ impl Stack {
     }
 
     /// The interfaces, top first.
-    pub fn interfaces(&self) -> &[Bxdf] {
+    pub(crate) fn interfaces(&self) -> &[Bxdf] {
         &self.interfaces[..self.n]
     }
 
@@ -290,7 +290,7 @@ impl Stack {
 
     /// The analog walk: exit direction, exact weight β, whether every vertex was a delta, and
     /// the product of relative indices crossed.
-    pub fn sample_walk(
+    pub(crate) fn sample_walk(
         &self,
         wo: Vec3,
         uc: f32,

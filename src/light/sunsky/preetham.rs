@@ -25,11 +25,11 @@ use crate::spectrum::cie::xyz_bar;
 use std::sync::OnceLock;
 
 /// Luminous efficacy at 555 nm, lm/W.
-pub const LUMINOUS_EFFICACY: f32 = 683.0;
+pub(crate) const LUMINOUS_EFFICACY: f32 = 683.0;
 
 /// The five Perez coefficients of one quantity (Y, x or y).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Perez {
+pub(crate) struct Perez {
     pub a: f32,
     pub b: f32,
     pub c: f32,
@@ -65,7 +65,7 @@ impl Perez {
     }
 
     /// Chromaticity x distribution coefficients (eq. A.3, first set).
-    pub fn chroma_x(t: f32) -> Perez {
+    pub(crate) fn chroma_x(t: f32) -> Perez {
         Self::linear(
             t,
             [
@@ -79,7 +79,7 @@ impl Perez {
     }
 
     /// Chromaticity y distribution coefficients (eq. A.3, second set).
-    pub fn chroma_y(t: f32) -> Perez {
+    pub(crate) fn chroma_y(t: f32) -> Perez {
         Self::linear(
             t,
             [
@@ -102,14 +102,14 @@ impl Perez {
 }
 
 /// Zenith luminance in kcd/m² for turbidity `t` and solar zenith angle `theta_s` (radians).
-pub fn zenith_luminance(t: f32, theta_s: f32) -> f32 {
+pub(crate) fn zenith_luminance(t: f32, theta_s: f32) -> f32 {
     let chi = (4.0 / 9.0 - t / 120.0) * (std::f32::consts::PI - 2.0 * theta_s);
     (4.0453 * t - 4.9710) * chi.tan() - 0.2155 * t + 2.4192
 }
 
 /// Zenith chromaticity (x, y) for turbidity `t` and solar zenith angle `theta_s` (radians):
 /// [T² T 1] · M · [θ³ θ² θ 1]ᵀ with the paper's matrices.
-pub fn zenith_chromaticity(t: f32, theta_s: f32) -> (f32, f32) {
+pub(crate) fn zenith_chromaticity(t: f32, theta_s: f32) -> (f32, f32) {
     const MX: [[f32; 4]; 3] = [
         [0.00166, -0.00375, 0.00209, 0.0],
         [-0.02903, 0.06377, -0.03202, 0.00394],
@@ -188,7 +188,7 @@ impl DaylightBasis {
 }
 
 /// The CIE D-series weights (M1, M2) of chromaticity (x, y).
-pub fn daylight_weights(x: f32, y: f32) -> (f32, f32) {
+pub(crate) fn daylight_weights(x: f32, y: f32) -> (f32, f32) {
     let d = 0.0241 + 0.2562 * x - 0.7341 * y;
     (
         (-1.3515 - 1.7703 * x + 5.9114 * y) / d,
@@ -198,7 +198,12 @@ pub fn daylight_weights(x: f32, y: f32) -> (f32, f32) {
 
 /// A daylight spectrum with chromaticity (x, y) and luminance `lum` (cd/m²), as spectral
 /// radiance (W·m⁻²·sr⁻¹·nm⁻¹) at the given wavelengths.
-pub fn daylight_radiance<const N: usize>(x: f32, y: f32, lum: f32, lambda: [f32; N]) -> [f32; N] {
+pub(crate) fn daylight_radiance<const N: usize>(
+    x: f32,
+    y: f32,
+    lum: f32,
+    lambda: [f32; N],
+) -> [f32; N] {
     let b = basis();
     let (m1, m2) = daylight_weights(x, y);
     let y_int = b.y[0] + m1 * b.y[1] + m2 * b.y[2];
@@ -247,7 +252,7 @@ impl PreethamSky {
     /// Luminance (cd/m²) and chromaticity (x, y) towards the unit local direction `d`; zero
     /// luminance below the horizon.
     #[inline]
-    pub fn xyy(&self, d: Vec3) -> (f32, f32, f32) {
+    pub(crate) fn xyy(&self, d: Vec3) -> (f32, f32, f32) {
         if d.y <= 0.0 {
             return (0.0, 0.0, 0.0);
         }

@@ -3,8 +3,9 @@
 //! lat–long luminance grid baked at construction.
 
 use super::preetham::{PreethamSky, LUMINOUS_EFFICACY};
-use crate::light::envmap::{direction_to_uv, uv_to_direction};
-use crate::light::{point_at_infinity, Distribution2D, LightLiSample, LightSampleContext};
+use crate::light::envmap::uv_to_direction;
+use crate::light::infinite::{latlong_pdf, latlong_sample, SceneSphere};
+use crate::light::{Distribution2D, LightLiSample, LightSampleContext};
 use crate::math::{Transform, Vec2, Vec3, PI};
 use crate::spectrum::cie::CIE_Y_INTEGRAL;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
@@ -26,8 +27,7 @@ pub struct SkyLight {
     dist: Distribution2D,
     /// ∫ luminance dω over the sky (cd/m² · sr, before `scale`).
     luminance_integral: f32,
-    center: Vec3,
-    radius: f32,
+    sphere: SceneSphere,
 }
 
 impl SkyLight {
@@ -80,8 +80,7 @@ impl SkyLight {
             to_local: to_world.inverse(),
             dist: Distribution2D::new(&weights, GRID_W, GRID_H),
             luminance_integral: integral as f32,
-            center: Vec3::ZERO,
-            radius: 1.0,
+            sphere: SceneSphere::default(),
         }
     }
 
@@ -91,8 +90,7 @@ impl SkyLight {
     }
 
     pub(crate) fn set_scene_sphere(&mut self, c: Vec3, r: f32) {
-        self.center = c;
-        self.radius = r;
+        self.sphere = SceneSphere::new(c, r);
     }
 
     fn local(&self, dir: Vec3) -> Vec3 {
@@ -100,7 +98,7 @@ impl SkyLight {
     }
 
     /// Radiance seen along the escaping direction `dir` (world space).
-    pub fn le(&self, dir: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
+    pub(crate) fn le(&self, dir: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
         let Some(m) = &self.model else {
             return SampledSpectrum::ZERO;
         };
@@ -111,16 +109,11 @@ impl SkyLight {
     }
 
     /// Solid-angle density of [`Self::sample_li`] producing the world direction `wi`.
-    pub fn pdf_li(&self, wi: Vec3) -> f32 {
+    pub(crate) fn pdf_li(&self, wi: Vec3) -> f32 {
         if self.model.is_none() {
             return 0.0;
         }
-        let d = self.local(wi);
-        let sin_theta = (d.x * d.x + d.z * d.z).sqrt();
-        if sin_theta.is_nan() || sin_theta <= 0.0 {
-            return 0.0;
-        }
-        self.dist.pdf(direction_to_uv(d)) / (2.0 * PI * PI * sin_theta)
+        latlong_pdf(self.local(wi), |uv| self.dist.pdf(uv))
     }
 
     pub(crate) fn sample_li(
@@ -131,30 +124,15 @@ impl SkyLight {
     ) -> Option<LightLiSample> {
         self.model.as_ref()?;
         let (uv, _, _) = self.dist.sample(u);
-        let wi = self
-            .to_world
-            .vector(uv_to_direction(uv))
-            .normalize_or_zero();
-        // Density and radiance are re-derived from the direction so that they agree exactly
-        // with `pdf_li` and `le`.
-        let pdf = self.pdf_li(wi);
-        if !(pdf > 0.0 && pdf.is_finite()) {
-            return None;
-        }
-        Some(LightLiSample {
-            l: self.le(wi, wl),
-            wi,
-            pdf,
-            p_light: point_at_infinity(ctx.p, wi, self.center, self.radius),
-            is_delta: false,
-        })
+        let (pdf_li, le) = (|wi| self.pdf_li(wi), |wi| self.le(wi, wl));
+        latlong_sample(ctx, &self.to_world, uv, &self.sphere, pdf_li, le)
     }
 
     /// Power falling on the scene's bounding sphere, π r² ∫ L dω, with the spectrum reduced to
     /// the flat spectrum of the same luminance.
     pub(crate) fn power(&self) -> f32 {
         let mean_radiance = self.luminance_integral / (LUMINOUS_EFFICACY * CIE_Y_INTEGRAL);
-        PI * self.radius * self.radius * mean_radiance * self.scale
+        PI * self.sphere.radius * self.sphere.radius * mean_radiance * self.scale
     }
 }
 

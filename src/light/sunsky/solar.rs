@@ -11,7 +11,7 @@ use crate::math::Vec3;
 
 /// A moment given as a local clock time at a place.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct DateTime {
+pub(crate) struct DateTime {
     pub year: i32,
     pub month: u32,
     pub day: u32,
@@ -25,7 +25,7 @@ pub struct DateTime {
 
 /// Where the sun is, seen from the ground.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SolarPosition {
+pub(crate) struct SolarPosition {
     /// Angle from the zenith, degrees (> 90 below the horizon).
     pub zenith: f64,
     /// Clockwise from north, degrees in [0, 360).
@@ -42,7 +42,7 @@ impl SolarPosition {
 }
 
 /// Julian day (Meeus ch. 7) of a Gregorian calendar date; `day` may carry a fraction.
-pub fn julian_day(year: i32, month: u32, day: f64) -> f64 {
+pub(crate) fn julian_day(year: i32, month: u32, day: f64) -> f64 {
     let (y, m) = if month <= 2 {
         (year as f64 - 1.0, month as f64 + 12.0)
     } else {
@@ -55,7 +55,7 @@ pub fn julian_day(year: i32, month: u32, day: f64) -> f64 {
 
 /// The sun's apparent declination (degrees) and the equation of time (minutes) at Julian day
 /// `jd` (Meeus ch. 25, low accuracy, and ch. 28 eq. 28.3).
-pub fn declination_and_equation_of_time(jd: f64) -> (f64, f64) {
+pub(crate) fn declination_and_equation_of_time(jd: f64) -> (f64, f64) {
     let t = (jd - 2_451_545.0) / 36_525.0;
     let l0 = (280.46646 + t * (36_000.769_83 + 0.0003032 * t)).rem_euclid(360.0);
     let m = 357.52911 + t * (35_999.050_29 - 0.0001537 * t);
@@ -81,7 +81,7 @@ pub fn declination_and_equation_of_time(jd: f64) -> (f64, f64) {
 
 /// The sun's position at `latitude` (degrees, north positive), `longitude` (degrees, east
 /// positive) and local time `t`.
-pub fn solar_position(latitude: f64, longitude: f64, t: &DateTime) -> SolarPosition {
+pub(crate) fn solar_position(latitude: f64, longitude: f64, t: &DateTime) -> SolarPosition {
     let local_minutes = t.hour * 60.0 + t.minute + t.second / 60.0;
     let utc_day_fraction = (local_minutes - 60.0 * t.timezone) / 1440.0;
     let jd = julian_day(t.year, t.month, t.day as f64 + utc_day_fraction);

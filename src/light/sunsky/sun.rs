@@ -12,15 +12,16 @@
 //! take a few per cent in the visible (ozone's Chappuis band near 600 nm) and more in the
 //! near infrared (O₂ at 760 nm, H₂O at 720 and 820 nm). No limb darkening.
 
-use crate::light::{point_at_infinity, LightLiSample, LightSampleContext};
+use crate::light::infinite::SceneSphere;
+use crate::light::{LightLiSample, LightSampleContext};
 use crate::math::{Frame, Vec2, Vec3, PI};
 use crate::spectrum::spectra::blackbody;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, LAMBDA_MAX, LAMBDA_MIN};
 
 /// The sun's mean angular radius seen from the earth, degrees.
-pub const SUN_ANGULAR_RADIUS_DEG: f64 = 0.2667;
+pub(crate) const SUN_ANGULAR_RADIUS_DEG: f64 = 0.2667;
 /// The sun's effective temperature, kelvin.
-pub const SUN_TEMPERATURE: f32 = 5778.0;
+pub(crate) const SUN_TEMPERATURE: f32 = 5778.0;
 /// Directions within this relative margin of the disk's edge (in sin² of the angle) count as on
 /// the disk, so that a direction the sampler drew never falls off it by rounding.
 const EDGE_MARGIN: f32 = 1e-3;
@@ -99,8 +100,7 @@ pub struct SunLight {
     /// Radiance, or for a delta sun the irradiance.
     spectrum: SunSpectrum,
     delta: bool,
-    center: Vec3,
-    radius: f32,
+    sphere: SceneSphere,
 }
 
 impl SunLight {
@@ -139,18 +139,18 @@ impl SunLight {
             solid_angle: omega as f32,
             spectrum: SunSpectrum::new(t, theta_s, scale * factor as f32),
             delta,
-            center: Vec3::ZERO,
-            radius: 1.0,
+            sphere: SceneSphere::default(),
         })
     }
 
     /// Whether the sun is a directional (delta) light.
-    pub fn is_delta(&self) -> bool {
+    pub(crate) fn is_delta(&self) -> bool {
         self.delta
     }
 
+    #[cfg(test)]
     /// Solid angle of the disk (0 for a delta sun).
-    pub fn solid_angle(&self) -> f32 {
+    pub(crate) fn solid_angle(&self) -> f32 {
         self.solid_angle
     }
 
@@ -160,8 +160,7 @@ impl SunLight {
     }
 
     pub(crate) fn set_scene_sphere(&mut self, c: Vec3, r: f32) {
-        self.center = c;
-        self.radius = r;
+        self.sphere = SceneSphere::new(c, r);
     }
 
     /// Whether the world direction `d` is on the disk.
@@ -173,7 +172,7 @@ impl SunLight {
     }
 
     /// Radiance seen along the escaping direction `dir` (zero off the disk).
-    pub fn le(&self, dir: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
+    pub(crate) fn le(&self, dir: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
         if self.delta || !self.on_disk(dir) {
             return SampledSpectrum::ZERO;
         }
@@ -181,7 +180,7 @@ impl SunLight {
     }
 
     /// Solid-angle density of [`Self::sample_li`] producing `wi` (0 for a delta sun).
-    pub fn pdf_li(&self, wi: Vec3) -> f32 {
+    pub(crate) fn pdf_li(&self, wi: Vec3) -> f32 {
         if self.delta || self.spectrum.scale == 0.0 || !self.on_disk(wi) {
             return 0.0;
         }
@@ -218,7 +217,7 @@ impl SunLight {
             l,
             wi,
             pdf,
-            p_light: point_at_infinity(ctx.p, wi, self.center, self.radius),
+            p_light: self.sphere.beyond(ctx.p, wi),
             is_delta: self.delta,
         })
     }
@@ -230,7 +229,7 @@ impl SunLight {
         } else {
             self.spectrum.mean() * self.solid_angle
         };
-        PI * self.radius * self.radius * e
+        PI * self.sphere.radius * self.sphere.radius * e
     }
 }
 

@@ -56,17 +56,17 @@ impl Arena {
     }
 
     /// The index and declaration of an id.
-    pub fn lookup(&self, id: &str) -> Option<&(usize, Location)> {
+    pub(crate) fn lookup(&self, id: &str) -> Option<&(usize, Location)> {
         self.ids.get(id)
     }
 
     /// Declares `id` for object `index`; the caller has checked that it is new.
-    pub fn register(&mut self, id: String, index: usize, loc: Location) {
+    pub(crate) fn register(&mut self, id: String, index: usize, loc: Location) {
         self.ids.insert(id, (index, loc));
     }
 
     /// Links every object into the tree under `root`.
-    pub fn link(mut self, root: Pending) -> Result<Node, SceneError> {
+    pub(crate) fn link(mut self, root: Pending) -> Result<Node, SceneError> {
         let root_index = self.push(root);
         // Resolve forward references by id.
         for obj in self.objects.iter_mut().flatten() {

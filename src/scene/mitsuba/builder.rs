@@ -12,7 +12,7 @@ use crate::math::{Transform, Vec3};
 use crate::plugin::{FileResolver, Properties, Value};
 
 /// An object being built.
-pub struct Builder {
+pub(crate) struct Builder {
     pub(super) tag: Tag,
     plugin: String,
     id: Option<String>,

@@ -65,14 +65,14 @@ impl<'d, 'i> Source<'d, 'i> {
 }
 
 /// An attribute after `$name` substitution.
-pub struct Attr {
+pub(crate) struct Attr {
     pub name: String,
     pub value: String,
     pub loc: Location,
 }
 
 /// An element with its attributes substituted, for the value parsers.
-pub struct Elem {
+pub(crate) struct Elem {
     pub tag: String,
     pub loc: Location,
     pub attrs: Vec<Attr>,
@@ -112,7 +112,7 @@ impl Elem {
         self.attrs.iter().find(|a| a.name == name)
     }
 
-    pub fn require(&self, name: &str) -> Result<&Attr, SceneError> {
+    pub(crate) fn require(&self, name: &str) -> Result<&Attr, SceneError> {
         self.get(name)
             .ok_or_else(|| self.err(format!("attribute '{name}' is missing; it is required")))
     }
@@ -129,7 +129,7 @@ impl Elem {
         SceneError::at(&self.loc, format!("{}: {msg}", self.describe()))
     }
 
-    pub fn attr_err(&self, a: &Attr, msg: impl Display) -> SceneError {
+    pub(crate) fn attr_err(&self, a: &Attr, msg: impl Display) -> SceneError {
         SceneError::at(
             &a.loc,
             format!("{}: attribute '{}': found {msg}", self.describe(), a.name),

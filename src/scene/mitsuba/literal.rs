@@ -8,7 +8,7 @@ use super::SpectrumValue;
 
 /// A finite decimal number within the range of an f32 (everything downstream is f32, so a
 /// larger one would become infinity later), nothing else but surrounding blanks.
-pub fn parse_float(s: &str) -> Result<f64, String> {
+pub(crate) fn parse_float(s: &str) -> Result<f64, String> {
     let t = s.trim();
     // Rust's parser also accepts "inf", "infinity" and "nan"; scene files must not.
     let looks_numeric = t
@@ -27,14 +27,14 @@ pub fn parse_float(s: &str) -> Result<f64, String> {
 }
 
 /// A decimal integer.
-pub fn parse_int(s: &str) -> Result<i64, String> {
+pub(crate) fn parse_int(s: &str) -> Result<i64, String> {
     let t = s.trim();
     t.parse::<i64>()
         .map_err(|_| format!("'{t}'; expected an integer"))
 }
 
 /// `true` or `false` (any letter case).
-pub fn parse_bool(s: &str) -> Result<bool, String> {
+pub(crate) fn parse_bool(s: &str) -> Result<bool, String> {
     let t = s.trim();
     if t.eq_ignore_ascii_case("true") {
         Ok(true)
@@ -46,7 +46,7 @@ pub fn parse_bool(s: &str) -> Result<bool, String> {
 }
 
 /// Splits a list separated by commas and/or blanks; an empty item between commas is an error.
-pub fn split_list(s: &str) -> Result<Vec<&str>, String> {
+pub(crate) fn split_list(s: &str) -> Result<Vec<&str>, String> {
     let mut out = Vec::new();
     if s.trim().is_empty() {
         return Ok(out);
@@ -69,7 +69,7 @@ pub fn parse_list(s: &str) -> Result<Vec<f64>, String> {
 }
 
 /// Exactly `n` numbers, as f32.
-pub fn parse_n<const N: usize>(s: &str) -> Result<[f32; N], String> {
+pub(crate) fn parse_n<const N: usize>(s: &str) -> Result<[f32; N], String> {
     let v = parse_list(s)?;
     if v.len() != N {
         return Err(format!(
@@ -82,7 +82,7 @@ pub fn parse_n<const N: usize>(s: &str) -> Result<[f32; N], String> {
 }
 
 /// A 3-vector from one number (used for all three) or three.
-pub fn parse_vec3(s: &str) -> Result<[f32; 3], String> {
+pub(crate) fn parse_vec3(s: &str) -> Result<[f32; 3], String> {
     let v = parse_list(s)?;
     match v.len() {
         1 => Ok([v[0] as f32; 3]),
@@ -95,13 +95,13 @@ pub fn parse_vec3(s: &str) -> Result<[f32; 3], String> {
 }
 
 /// The sRGB transfer function's inverse (encoded → linear); odd-symmetric for negatives.
-pub fn srgb_to_linear(c: f32) -> f32 {
+pub(crate) fn srgb_to_linear(c: f32) -> f32 {
     crate::spectrum::cie::srgb_decode(c.abs()).copysign(c)
 }
 
 /// An RGB triple: "r, g, b", "r g b", one value for all three, or "#rrggbb" (sRGB-encoded,
 /// returned linear).
-pub fn parse_rgb(s: &str) -> Result<[f32; 3], String> {
+pub(crate) fn parse_rgb(s: &str) -> Result<[f32; 3], String> {
     let t = s.trim();
     if let Some(hex) = t.strip_prefix('#') {
         if hex.len() != 6 || !hex.bytes().all(|b| b.is_ascii_hexdigit()) {
@@ -114,7 +114,7 @@ pub fn parse_rgb(s: &str) -> Result<[f32; 3], String> {
 }
 
 /// A spectrum literal: one constant, or "λ:value" pairs with increasing wavelengths (nm).
-pub fn parse_spectrum(s: &str) -> Result<SpectrumValue, String> {
+pub(crate) fn parse_spectrum(s: &str) -> Result<SpectrumValue, String> {
     let items = split_list(s)?;
     if items.is_empty() {
         return Err("an empty value; expected a number or 'wavelength:value' pairs".into());
@@ -148,7 +148,7 @@ pub fn parse_spectrum(s: &str) -> Result<SpectrumValue, String> {
 }
 
 /// A temperature in kelvin, "3000" or "3000K".
-pub fn parse_temperature(s: &str) -> Result<f32, String> {
+pub(crate) fn parse_temperature(s: &str) -> Result<f32, String> {
     let t = s.trim();
     let num = t
         .strip_suffix('K')
@@ -163,7 +163,7 @@ pub fn parse_temperature(s: &str) -> Result<f32, String> {
 }
 
 /// "major.minor.patch" (minor and patch optional).
-pub fn parse_version(s: &str) -> Result<(u32, u32, u32), String> {
+pub(crate) fn parse_version(s: &str) -> Result<(u32, u32, u32), String> {
     let t = s.trim();
     let bad = || format!("'{t}'; expected a version such as '3.0.0'");
     let parts: Vec<&str> = t.split('.').collect();
@@ -183,7 +183,7 @@ pub fn parse_version(s: &str) -> Result<(u32, u32, u32), String> {
 /// Mitsuba 3's upgrade of 0.6 parameter names: an underscore before each capital that follows
 /// a lower-case letter or digit, then everything lower case (`intIOR` → `int_ior`,
 /// `sigmaT_0` → `sigma_t_0`).
-pub fn to_snake_case(s: &str) -> String {
+pub(crate) fn to_snake_case(s: &str) -> String {
     let mut out = String::with_capacity(s.len() + 4);
     let mut prev: Option<char> = None;
     for c in s.chars() {
@@ -201,7 +201,7 @@ pub fn to_snake_case(s: &str) -> String {
 /// Replaces `$name` and `${name}` (name = letters, digits, `_`) by their values; a `$` not
 /// followed by a name is kept. An unknown name is an error naming it. Values are not
 /// substituted again, so definitions cannot loop.
-pub fn substitute(s: &str, params: &HashMap<String, String>) -> Result<String, String> {
+pub(crate) fn substitute(s: &str, params: &HashMap<String, String>) -> Result<String, String> {
     if !s.contains('$') {
         return Ok(s.to_string());
     }

@@ -82,7 +82,7 @@ pub fn load_file(
 
 /// [`load_file`] that adds its warnings to `warnings` even when it fails, so that a caller
 /// can show the warnings that led up to an error.
-pub fn load_file_into(
+pub(crate) fn load_file_into(
     path: &Path,
     defines: &[(String, String)],
     warnings: &mut Vec<Warning>,
@@ -106,7 +106,7 @@ pub fn load_str(
 }
 
 /// [`load_str`] that adds its warnings to `warnings` even when it fails.
-pub fn load_str_into(
+pub(crate) fn load_str_into(
     xml: &str,
     file_name: &Path,
     defines: &[(String, String)],

@@ -19,7 +19,7 @@ use crate::plugin::FileResolver;
 const MAX_DEPTH: usize = 100;
 
 /// Reader state shared by a scene file and everything it includes.
-pub struct Reader {
+pub(crate) struct Reader {
     pub(super) params: HashMap<String, String>,
     objects: Arena,
     /// Files being read, outermost first, for include-cycle detection.
@@ -80,7 +80,7 @@ impl Reader {
 
     /// Reads the scene in `text` (from `file`); warnings go to `warnings` whether or not the
     /// scene could be read, so that those leading up to an error can be shown with it.
-    pub fn read_root(
+    pub(crate) fn read_root(
         mut self,
         text: &str,
         file: &Path,

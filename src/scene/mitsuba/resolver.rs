@@ -21,11 +21,11 @@
 
 use std::path::Path;
 
-pub use crate::plugin::FileResolver;
+pub(crate) use crate::plugin::FileResolver;
 
 /// Reads a scene file as text: UTF-8 (a byte-order mark is dropped) or UTF-16 with a
 /// byte-order mark. A directory is an error (on some systems reading one succeeds).
-pub fn read_text(path: &Path) -> std::io::Result<String> {
+pub(crate) fn read_text(path: &Path) -> std::io::Result<String> {
     if path.is_dir() {
         return Err(std::io::Error::other("it is a directory, not a file"));
     }
@@ -33,7 +33,7 @@ pub fn read_text(path: &Path) -> std::io::Result<String> {
 }
 
 /// Decodes the bytes of a scene file (see [`read_text`]).
-pub fn decode_text(bytes: Vec<u8>) -> std::io::Result<String> {
+pub(crate) fn decode_text(bytes: Vec<u8>) -> std::io::Result<String> {
     let invalid = |what: String| std::io::Error::new(std::io::ErrorKind::InvalidData, what);
     let utf16 = |body: &[u8], big_endian: bool| {
         if body.len() % 2 != 0 {

@@ -67,6 +67,12 @@ fn a_long_chain_of_references_does_not_overflow() {
     assert_eq!(root.children.len(), n + 1);
 }
 
+/// The resolved `filename` of the scene's `i`-th object.
+fn filename(root: &Node, i: usize) -> std::path::PathBuf {
+    let props = &root.children[i].node.props;
+    props.get_path_opt("filename").unwrap().unwrap()
+}
+
 #[test]
 fn path_folders_are_searched_first_and_must_exist() {
     let d = TempDir::new("path");
@@ -84,14 +90,7 @@ fn path_folders_are_searched_first_and_must_exist() {
     );
     let (root, w) = load_file(&main, &[]).unwrap();
     assert!(w.is_empty(), "{w:?}");
-    let path = |i: usize| {
-        root.children[i]
-            .node
-            .props
-            .get_path_opt("filename")
-            .unwrap()
-            .unwrap()
-    };
+    let path = |i: usize| filename(&root, i);
     assert_eq!(path(0), d.0.join("scene/../meshes/a.ply"));
     assert_eq!(path(1), d.0.join("scene/../textures/t.png"));
     // Found nowhere: named next to the declaring file, for the message.
@@ -139,14 +138,7 @@ fn file_names_in_included_files_resolve_against_the_scene_folder() {
         &scene("<include filename=\"parts/objects.xml\"/>"),
     );
     let (root, _) = load_file(&main, &[]).unwrap();
-    let path = |i: usize| {
-        root.children[i]
-            .node
-            .props
-            .get_path_opt("filename")
-            .unwrap()
-            .unwrap()
-    };
+    let path = |i: usize| filename(&root, i);
     assert_eq!(path(0), d.0.join("mesh.ply"));
     assert_eq!(path(1), d.0.join("parts/only-here.ply"));
     assert_eq!(path(2), d.0.join("mesh.ply"));

@@ -7,7 +7,7 @@ use super::SceneError;
 use crate::math::{Mat4, Transform, Vec3};
 
 /// One operation inside `<transform>`, as a transform.
-pub fn op(e: &Elem) -> Result<Transform, SceneError> {
+pub(crate) fn op(e: &Elem) -> Result<Transform, SceneError> {
     match e.tag.as_str() {
         "translate" => {
             let v = xyz_or_value(e, 0.0, false)?;
@@ -86,7 +86,7 @@ pub fn op(e: &Elem) -> Result<Transform, SceneError> {
 }
 
 /// The attributes that [`op`] reads, for unknown-attribute warnings.
-pub fn allowed_attrs(tag: &str) -> &'static [&'static str] {
+pub(crate) fn allowed_attrs(tag: &str) -> &'static [&'static str] {
     match tag {
         "translate" | "scale" => &["x", "y", "z", "value"],
         "rotate" => &["x", "y", "z", "value", "angle"],

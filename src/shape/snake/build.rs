@@ -99,8 +99,9 @@ impl SnakeParams {
         v
     }
 
+    #[cfg(test)]
     /// Arc-length coordinate of the body's largest dorsal arc (for scale sizes in the docs).
-    pub fn dorsal_arc(&self) -> f64 {
+    pub(crate) fn dorsal_arc(&self) -> f64 {
         (1.0 - self.belly_width as f64) * self.perimeter_at(0.5)
     }
 }

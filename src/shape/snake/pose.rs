@@ -6,7 +6,7 @@ use std::f64::consts::TAU;
 
 /// A planar curve in the ground plane: points (x, z) and unit tangents, `n + 1` samples evenly
 /// spaced by arc length from the snout (index 0) to the tail tip.
-pub struct Centreline {
+pub(crate) struct Centreline {
     pub points: Vec<[f64; 2]>,
     pub tangents: Vec<[f64; 2]>,
 }
@@ -69,7 +69,7 @@ fn curve_length(f: &impl Fn(f64) -> [f64; 2], dense: usize) -> f64 {
 }
 
 /// The centreline of a pose, `n + 1` samples.
-pub fn centreline(p: &SnakeParams, n: usize) -> Centreline {
+pub(crate) fn centreline(p: &SnakeParams, n: usize) -> Centreline {
     let len = p.length as f64;
     match p.pose {
         Pose::SCurve => {
@@ -130,7 +130,7 @@ pub fn centreline(p: &SnakeParams, n: usize) -> Centreline {
 /// margin of 5 %); two stations' segments crossing means two sections meet. Adjacent stations
 /// are skipped, and instead a bend tighter than the half-width (which would fold the inside of
 /// the curve) is reported. Returns the two arc positions t of the first collision found.
-pub fn self_intersection(p: &SnakeParams, n: usize) -> Option<(f64, f64)> {
+pub(crate) fn self_intersection(p: &SnakeParams, n: usize) -> Option<(f64, f64)> {
     let line = centreline(p, n);
     let seg: Vec<([f64; 2], [f64; 2])> = (0..=n)
         .map(|i| {

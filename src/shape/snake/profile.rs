@@ -43,7 +43,7 @@ const VENT_WIDTH: f64 = 0.8;
 
 impl SnakeParams {
     /// t of the vent, where the tail begins.
-    pub fn vent(&self) -> f64 {
+    pub(crate) fn vent(&self) -> f64 {
         1.0 - self.tail_length as f64
     }
 
@@ -79,7 +79,7 @@ impl SnakeParams {
     }
 
     /// Body half-width at t (world units; 0 at both tips).
-    pub fn half_width(&self, t: f64) -> f64 {
+    pub(crate) fn half_width(&self, t: f64) -> f64 {
         let h = self.head_length as f64;
         // The snout is rounded over `snout` of the head's length, the tail tip over its last 3 %.
         let snout = (self.snout as f64 * h).max(1e-6);
@@ -100,7 +100,7 @@ impl SnakeParams {
     /// Half-heights (above, below) of the section at t over its half-width: the head is
     /// depressed (`head_height` of its width, lower still towards the snout: a wedge in side
     /// view) with a flat lower jaw; the body is round.
-    pub fn height_ratios(&self, t: f64) -> (f64, f64) {
+    pub(crate) fn height_ratios(&self, t: f64) -> (f64, f64) {
         let h = self.head_length as f64;
         let b = self.head_blend(t);
         let wedge = 0.6 + 0.4 * smoothstep(0.0, 0.9 * h, t);
@@ -128,7 +128,7 @@ impl SnakeParams {
     }
 
     /// Outward unit normal of the section curve at `alpha` (in the section's plane).
-    pub fn section_normal(&self, alpha: f64, a: f64, r: (f64, f64)) -> (f64, f64) {
+    pub(crate) fn section_normal(&self, alpha: f64, a: f64, r: (f64, f64)) -> (f64, f64) {
         let e = 1e-5;
         let (x0, y0) = self.section(alpha - e, a, r);
         let (x1, y1) = self.section(alpha + e, a, r);
@@ -141,7 +141,7 @@ impl SnakeParams {
 
     /// Height of the section's centre above the ground at t: the belly's lowest point rests on
     /// the ground, with the chin rising a little towards the snout.
-    pub fn lift(&self, t: f64) -> f64 {
+    pub(crate) fn lift(&self, t: f64) -> f64 {
         let a = self.half_width(t);
         let (_, down) = self.height_ratios(t);
         let h = self.head_length as f64;
@@ -152,7 +152,7 @@ impl SnakeParams {
 
     /// How far the section at t is rolled about the centreline (radians): `roll` over the
     /// stretch of `roll_span` centred at `roll_at`, easing in and out over its outer quarters.
-    pub fn roll_angle(&self, t: f64) -> f64 {
+    pub(crate) fn roll_angle(&self, t: f64) -> f64 {
         if self.roll == 0.0 {
             return 0.0;
         }
@@ -163,7 +163,7 @@ impl SnakeParams {
 
     /// Arc-length table of the section at t (unit half-width): `n + 1` cumulative lengths at
     /// α = −π/2 + 2π·i/n, and the ratios used.
-    pub fn section_arc(&self, t: f64, n: usize) -> (Vec<f64>, (f64, f64)) {
+    pub(crate) fn section_arc(&self, t: f64, n: usize) -> (Vec<f64>, (f64, f64)) {
         let r = self.height_ratios(t);
         let alpha = |i: usize| -PI / 2.0 + 2.0 * PI * i as f64 / n as f64;
         let mut acc = Vec::with_capacity(n + 1);
@@ -179,7 +179,7 @@ impl SnakeParams {
     }
 
     /// Perimeter of the section at t (world units).
-    pub fn perimeter_at(&self, t: f64) -> f64 {
+    pub(crate) fn perimeter_at(&self, t: f64) -> f64 {
         let (acc, _) = self.section_arc(t, 720);
         acc[720] * self.half_width(t)
     }

@@ -2,8 +2,8 @@
 //! frame and a legend (the R(λ) curves of `ophis thinfilm --plot`).
 
 use super::{
-    font, text_scale, tick_label, tick_step, valid_range, Figure, PlotError, Series, GRID,
-    MID_GREY, PALETTE,
+    draw_legend, draw_pieces, font, text_scale, tick_label, tick_step, valid_range, Figure,
+    PlotError, Series, GRID,
 };
 use plotters::prelude::*;
 
@@ -20,9 +20,10 @@ pub struct PlotArea {
 }
 
 impl PlotArea {
+    #[cfg(test)]
     /// The pixel the data point (x, y) is drawn at: the ranges' ends fall on the first and
     /// last pixel of the rectangle, rounded as plotters rounds.
-    pub fn to_pixel(&self, x: f64, y: f64) -> (i64, i64) {
+    pub(crate) fn to_pixel(self, x: f64, y: f64) -> (i64, i64) {
         let (x0, x1) = self.x_range;
         let (y0, y1) = self.y_range;
         let u = (x - x0) / (x1 - x0) * (self.width - 1) as f64;
@@ -147,18 +148,13 @@ impl LineChart {
 
     /// Adds a series coloured from `PALETTE` in turn.
     pub fn add(&mut self, label: &str, points: Vec<(f64, f64)>) -> &mut LineChart {
-        let color = PALETTE[self.series.len() % PALETTE.len()];
-        self.series.push(Series {
-            label: label.into(),
-            color,
-            points,
-        });
+        Series::push(&mut self.series, label, points);
         self
     }
 
     /// The ranges shown: the given ones when valid, else the finite data's extent (a unit
     /// interval around it when it is a single value, (0, 1) when there is none).
-    pub fn ranges(&self) -> ((f64, f64), (f64, f64)) {
+    pub(crate) fn ranges(&self) -> ((f64, f64), (f64, f64)) {
         let pts = self.series.iter().flat_map(|s| s.points.iter());
         let finite = pts.filter(|p| p.0.is_finite() && p.1.is_finite());
         let (mut xl, mut xh, mut yl, mut yh) =
@@ -190,7 +186,7 @@ impl LineChart {
     }
 
     /// Draws the chart over all of `fig`; returns where the plotting rectangle went.
-    pub fn draw(&self, fig: &mut Figure) -> Result<PlotArea, PlotError> {
+    pub(crate) fn draw(&self, fig: &mut Figure) -> Result<PlotArea, PlotError> {
         let s = text_scale(fig.width(), fig.height());
         let (xr, yr) = self.ranges();
         let root = fig.area();
@@ -216,37 +212,17 @@ impl LineChart {
             .y_desc(&self.y_label)
             .draw()?;
         let area = PlotArea::of(chart.plotting_area(), xr, yr);
-        let width = (2.0 * s) as u32;
         for sr in &self.series {
-            let style = sr.color.stroke_width(width);
             let mut pieces = runs(&sr.points, xr, yr);
             if pieces.is_empty() {
                 // Nothing visible: an empty piece still carries the legend entry.
                 pieces.push(Vec::new());
             }
-            for (i, run) in pieces.into_iter().enumerate() {
-                let ann = chart.draw_series(LineSeries::new(run, style))?;
-                // One legend entry per series, on its first visible piece.
-                if i == 0 && !sr.label.is_empty() {
-                    let w = (24.0 * s) as i32;
-                    ann.label(&sr.label)
-                        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + w, y)], style));
-                }
-            }
+            draw_pieces(&mut chart, sr, pieces, s)?;
         }
         let frame = [(xr.0, yr.0), (xr.1, yr.1)];
         chart.draw_series(std::iter::once(Rectangle::new(frame, BLACK)))?;
-        if self.series.iter().any(|s| !s.label.is_empty()) {
-            chart
-                .configure_series_labels()
-                .position(SeriesLabelPosition::UpperRight)
-                .margin(8.0 * s)
-                .legend_area_size(30.0 * s)
-                .label_font(font(14.0 * s))
-                .background_style(WHITE)
-                .border_style(MID_GREY)
-                .draw()?;
-        }
+        draw_legend(&mut chart, &self.series, 8.0 * s, font(14.0 * s), s)?;
         root.present()?;
         Ok(area)
     }
@@ -254,6 +230,7 @@ impl LineChart {
 
 #[cfg(test)]
 mod tests {
+    use super::super::PALETTE;
     use super::*;
 
     fn rgb(c: RGBColor) -> [u8; 3] {

@@ -12,7 +12,7 @@ mod sheet;
 
 pub use line::{LineChart, PlotArea};
 pub use map::{color_map, heat};
-pub use polar::{PolarArea, PolarChart};
+pub(crate) use polar::PolarChart;
 pub use sheet::{contact_sheet, MISSING};
 
 use crate::image_io::{linear_to_srgb, srgb_to_linear, write_png, ImageError, RgbImage};
@@ -21,7 +21,7 @@ use plotters::prelude::*;
 use std::path::Path;
 
 /// Eight distinct series colours (sRGB), chosen to stay apart on white and in print.
-pub const PALETTE: [RGBColor; 8] = [
+pub(crate) const PALETTE: [RGBColor; 8] = [
     RGBColor(0, 89, 191),    // blue
     RGBColor(242, 140, 0),   // orange
     RGBColor(25, 153, 51),   // green
@@ -58,6 +58,65 @@ pub struct Series {
     pub label: String,
     pub color: RGBColor,
     pub points: Vec<(f64, f64)>,
+}
+
+impl Series {
+    /// Appends a series to a chart's `list`, coloured from `PALETTE` in turn.
+    fn push(list: &mut Vec<Series>, label: &str, points: Vec<(f64, f64)>) {
+        let color = PALETTE[list.len() % PALETTE.len()];
+        list.push(Series {
+            label: label.into(),
+            color,
+            points,
+        });
+    }
+}
+
+/// A chart on a figure, in data coordinates (both the line and the polar chart are drawn so).
+type Chart<'a, 'b> =
+    ChartContext<'a, BitMapBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+
+/// Draws a series as separate pieces (where its curve breaks), its legend entry on the first
+/// piece; `s` is the figure's text scale.
+fn draw_pieces(
+    chart: &mut Chart,
+    sr: &Series,
+    pieces: Vec<Vec<(f64, f64)>>,
+    s: f64,
+) -> Result<(), PlotError> {
+    let style = sr.color.stroke_width((2.0 * s) as u32);
+    for (i, piece) in pieces.into_iter().enumerate() {
+        let ann = chart.draw_series(LineSeries::new(piece, style))?;
+        // One legend entry per series, on its first piece.
+        if i == 0 && !sr.label.is_empty() {
+            let w = (24.0 * s) as i32;
+            ann.label(&sr.label)
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + w, y)], style));
+        }
+    }
+    Ok(())
+}
+
+/// The legend of the labelled series in the upper right corner (none without labels).
+fn draw_legend<'a, 'b: 'a>(
+    chart: &mut Chart<'a, 'b>,
+    series: &[Series],
+    margin: f64,
+    label: TextStyle,
+    s: f64,
+) -> Result<(), PlotError> {
+    if series.iter().any(|s| !s.label.is_empty()) {
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::UpperRight)
+            .margin(margin)
+            .legend_area_size(30.0 * s)
+            .label_font(label)
+            .background_style(WHITE)
+            .border_style(MID_GREY)
+            .draw()?;
+    }
+    Ok(())
 }
 
 /// A picture being drawn: `width` × `height` pixels of 8-bit sRGB, row-major, top row first.
@@ -97,7 +156,7 @@ impl Figure {
     }
 
     /// The figure as a linear-RGB image (exactly what `write_png` turns back into these bytes).
-    pub fn to_image(&self) -> RgbImage {
+    pub(crate) fn to_image(&self) -> RgbImage {
         let lut: Vec<f32> = (0..256).map(|i| srgb_to_linear(i as f32 / 255.0)).collect();
         RgbImage {
             width: self.width as usize,

@@ -4,14 +4,15 @@
 //! on both axes and the rings, spokes and lobes are drawn as curves in it.
 
 use super::{
-    font, text_scale, tick_label, tick_step, Figure, PlotError, Series, GRID, MID_GREY, PALETTE,
+    draw_legend, draw_pieces, font, text_scale, tick_label, tick_step, Figure, PlotError, Series,
+    GRID, MID_GREY,
 };
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 /// Lobes as (angle in degrees, value) series over a half disc, with grid rings and a legend.
 #[derive(Clone, Debug, Default)]
-pub struct PolarChart {
+pub(crate) struct PolarChart {
     pub title: String,
     /// What the radius shows, written under the chart (e.g. "f·cos θ").
     pub r_label: String,
@@ -25,7 +26,7 @@ pub struct PolarChart {
 
 /// Where the half disc landed on a figure: centre and radius in pixels, value at the rim.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PolarArea {
+pub(crate) struct PolarArea {
     pub cx: f64,
     pub cy: f64,
     pub radius: f64,
@@ -33,8 +34,9 @@ pub struct PolarArea {
 }
 
 impl PolarArea {
+    #[cfg(test)]
     /// Pixel position of the value `r` at `angle_deg` (the value clamped to [0, r_max]).
-    pub fn to_pixel(&self, angle_deg: f64, r: f64) -> (f64, f64) {
+    pub(crate) fn to_pixel(self, angle_deg: f64, r: f64) -> (f64, f64) {
         let rp = r.clamp(0.0, self.r_max) / self.r_max * self.radius;
         let t = angle_deg.to_radians();
         (self.cx + rp * t.sin(), self.cy - rp * t.cos())
@@ -59,12 +61,7 @@ impl PolarChart {
 
     /// Adds a series coloured from `PALETTE` in turn.
     pub fn add(&mut self, label: &str, points: Vec<(f64, f64)>) -> &mut PolarChart {
-        let color = PALETTE[self.series.len() % PALETTE.len()];
-        self.series.push(Series {
-            label: label.into(),
-            color,
-            points,
-        });
+        Series::push(&mut self.series, label, points);
         self
     }
 
@@ -95,7 +92,7 @@ impl PolarChart {
     }
 
     /// Draws the chart over all of `fig`; returns where the half disc went.
-    pub fn draw(&self, fig: &mut Figure) -> Result<PolarArea, PlotError> {
+    pub(crate) fn draw(&self, fig: &mut Figure) -> Result<PolarArea, PlotError> {
         let s = text_scale(fig.width(), fig.height());
         let (label, pad) = (font(14.0 * s), (6.0 * s) as i32);
         let th = (16.0 * s) as i32;
@@ -168,7 +165,6 @@ impl PolarChart {
             chart.draw_series(LineSeries::new([(0.0, 0.0), polar(inc, r_max)], ray))?;
         }
         for sr in &self.series {
-            let style = sr.color.stroke_width((2.0 * s) as u32);
             let mut pieces: Vec<Vec<(f64, f64)>> = vec![Vec::new()];
             for &(ang, v) in &sr.points {
                 if ang.is_nan() || v.is_nan() {
@@ -177,26 +173,9 @@ impl PolarChart {
                     last.push(polar(ang, v.clamp(0.0, r_max)));
                 }
             }
-            for (i, piece) in pieces.into_iter().enumerate() {
-                let ann = chart.draw_series(LineSeries::new(piece, style))?;
-                if i == 0 && !sr.label.is_empty() {
-                    let w = (24.0 * s) as i32;
-                    ann.label(&sr.label)
-                        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + w, y)], style));
-                }
-            }
+            draw_pieces(&mut chart, sr, pieces, s)?;
         }
-        if self.series.iter().any(|s| !s.label.is_empty()) {
-            chart
-                .configure_series_labels()
-                .position(SeriesLabelPosition::UpperRight)
-                .margin(4.0 * s)
-                .legend_area_size(30.0 * s)
-                .label_font(label.clone())
-                .background_style(WHITE)
-                .border_style(MID_GREY)
-                .draw()?;
-        }
+        draw_legend(&mut chart, &self.series, 4.0 * s, label.clone(), s)?;
         root.present()?;
         Ok(area)
     }
@@ -204,6 +183,7 @@ impl PolarChart {
 
 #[cfg(test)]
 mod tests {
+    use super::super::PALETTE;
     use super::*;
 
     #[test]
