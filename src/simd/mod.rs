@@ -161,6 +161,10 @@ pub trait Float:
     fn lane(self, i: usize) -> f32;
     /// Lanes from a function of the lane index.
     fn from_fn(f: impl FnMut(usize) -> f32) -> Self;
+    /// PCG32 generators in lanes ([`crate::math::Pcg32::next_f32`]): for the lanes of `m`,
+    /// advances `state[i]` (increment `inc[i]`) and returns the generator's next float in
+    /// [0, 1); other lanes return 0 and keep their state.
+    fn pcg_next_f32(state: &mut [u64], inc: &[u64], m: Self::M) -> Self;
 
     /// `x.max(0.0).sqrt()`: the square root of a value that rounding may have made slightly
     /// negative.

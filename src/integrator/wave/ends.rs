@@ -50,7 +50,7 @@ pub(super) fn start<F: Float>(
         for row in u.iter_mut().take(if lens { 5 } else { 3 }) {
             row[i] = st.next_1d(kind);
         }
-        pool.sampler[base + i] = st;
+        pool.set_sampler_state(base + i, &st);
         pool.job[base + i] = job;
         px[0][i] = x as f32 + 0.5;
         px[1][i] = y as f32 + 0.5;

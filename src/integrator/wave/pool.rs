@@ -44,7 +44,12 @@ pub(super) struct Pool {
     pub null_crossings: Vec<u32>,
     pub prev_p: [Vec<f32>; 3],
     pub prev_n: [Vec<f32>; 3],
-    pub sampler: Vec<SamplerState>,
+    /// Each path's sampler state ([`SamplerState::parts`]), field by field.
+    pub rng_state: Vec<u64>,
+    pub rng_inc: Vec<u64>,
+    pub pixel_seed: Vec<u32>,
+    pub sample_index: Vec<u32>,
+    pub dim: Vec<u32>,
     /// Index of the job (pixel sample) in the tile's pass.
     pub job: Vec<u32>,
     /// Whether the path goes on after this round (1) or ends (0).
@@ -84,7 +89,11 @@ impl Pool {
             null_crossings: vec![0; CAP],
             prev_p: v3(),
             prev_n: v3(),
-            sampler: vec![SamplerState::start(0, 0, 0, 0); CAP],
+            rng_state: vec![0; CAP],
+            rng_inc: vec![0; CAP],
+            pixel_seed: vec![0; CAP],
+            sample_index: vec![0; CAP],
+            dim: vec![0; CAP],
             job: vec![0; CAP],
             alive: vec![0; CAP],
             hit: vec![None; CAP],
@@ -115,6 +124,30 @@ impl Pool {
             lambda: std::array::from_fn(|k| self.lambda[k][i]),
             pdf: std::array::from_fn(|k| self.wl_pdf[k][i]),
         }
+    }
+
+    /// Path `i`'s sampler state.
+    #[inline]
+    pub fn sampler_state(&self, i: usize) -> SamplerState {
+        SamplerState::from_parts((
+            self.rng_state[i],
+            self.rng_inc[i],
+            self.pixel_seed[i],
+            self.sample_index[i],
+            self.dim[i],
+        ))
+    }
+
+    /// Sets path `i`'s sampler state.
+    #[inline]
+    pub fn set_sampler_state(&mut self, i: usize, st: &SamplerState) {
+        (
+            self.rng_state[i],
+            self.rng_inc[i],
+            self.pixel_seed[i],
+            self.sample_index[i],
+            self.dim[i],
+        ) = st.parts();
     }
 
     /// Path `i` as the scalar estimator's state.
@@ -178,7 +211,11 @@ impl Pool {
             self.specular,
             self.depth,
             self.null_crossings,
-            self.sampler,
+            self.rng_state,
+            self.rng_inc,
+            self.pixel_seed,
+            self.sample_index,
+            self.dim,
             self.job
         );
     }

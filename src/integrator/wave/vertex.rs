@@ -135,12 +135,21 @@ pub(super) fn lanes(bits: u32) -> impl Iterator<Item = usize> {
     })
 }
 
-/// Next sampler value of each lane in `m` (others 0), drawn lane by lane in lane order.
+/// Next sampler value of each lane in `m` (others 0): the independent sampler's PCG32 in
+/// lanes, the others lane by lane.
 #[inline(always)]
 fn draw<F: Float>(pool: &mut Pool, base: usize, m: F::M, kind: SamplerKind) -> F {
+    if kind == SamplerKind::Independent {
+        let u = F::pcg_next_f32(&mut pool.rng_state[base..], &pool.rng_inc[base..], m);
+        let dim = F::I::load_at(&pool.dim, base);
+        store_masked_int::<F>(&mut pool.dim, base, m, dim + F::I::splat(1));
+        return u;
+    }
     let mut u = [0.0f32; 16];
     for i in lanes(m.bits()) {
-        u[i] = pool.sampler[base + i].next_1d(kind);
+        let mut st = pool.sampler_state(base + i);
+        u[i] = st.next_1d(kind);
+        pool.set_sampler_state(base + i, &st);
     }
     F::load(&u)
 }
@@ -237,9 +246,9 @@ fn scalar_vertex(c: &Ctx, pool: &mut Pool, i: usize, shadows: &mut Shadows) {
         }
         Some(h) => {
             let si = c.scene.bvh.raw_interaction(&c.scene.shapes, &h, &path.ray);
-            let mut sampler = Sampler::resume(c.kind, c.scene.sampler.seed, pool.sampler[i]);
+            let mut sampler = Sampler::resume(c.kind, c.scene.sampler.seed, pool.sampler_state(i));
             let (alive, shadow) = path.scatter(c.scene, &c.cfg, &wl, &si, &mut sampler);
-            pool.sampler[i] = sampler.state();
+            pool.set_sampler_state(i, &sampler.state());
             if let Some(s) = shadow {
                 shadows.push(i as u32, s.ray, s.contribution);
             }
