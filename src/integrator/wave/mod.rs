@@ -23,8 +23,8 @@
 //! pixel's samples are summed in sample order at the end: a tile is bit-identical to the
 //! scalar loop's, which `tests/wavefront.rs` checks on every scene.
 //!
-//! Lanes are eight wide on CPUs with AVX2 (the code is compiled for AVX2 and for AVX-512,
-//! chosen at run time like the accelerator's traversal) and one wide elsewhere.
+//! Lanes are sixteen wide on CPUs with AVX-512, eight with AVX2 (chosen at run time like the
+//! accelerator's traversal) and one elsewhere.
 
 /// `[e(0), e(1), e(2), e(3)]` for an expression `e` of `k`. Not a closure: a closure is
 /// compiled as a function of its own, without the caller's instruction set, and unless it
@@ -146,7 +146,7 @@ pub fn render_tile(
             n: (u32, u32),
             st: PathStrategy,
         ) -> Vec<[f64; 4]> {
-            run::<F8>(s, p, c, f, n, st)
+            run::<crate::simd::F16>(s, p, c, f, n, st)
         }
         match scene.bvh.isa() {
             // SAFETY: the BVH only holds an instruction set the CPU supports (`Isa::best`,
