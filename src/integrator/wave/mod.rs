@@ -63,12 +63,12 @@ pub use pool::POOL;
 pub use program::Program as WaveProgram;
 
 use super::path::{PathConfig, PathStrategy};
-use crate::accel::{Isa, RawHit};
+use crate::accel::Isa;
 use crate::math::Ray;
 use crate::scene::Scene;
 use crate::simd::Float;
 use crate::spectrum::SampledSpectrum;
-use pool::{Pool, MISS};
+use pool::Pool;
 use program::Program;
 use vertex::Ctx;
 
@@ -189,7 +189,6 @@ fn run<F: Float>(
     let mut results = vec![[0.0f32; 3]; jobs.count as usize];
     let mut pool = Pool::new();
     let mut rays: Vec<Ray> = Vec::with_capacity(POOL);
-    let mut hits: Vec<Option<RawHit>> = Vec::with_capacity(POOL);
     let mut shadows = Shadows::new();
     let mut dead: Vec<u32> = Vec::with_capacity(POOL);
     let mut scratch = vertex::Scratch::new();
@@ -203,26 +202,11 @@ fn run<F: Float>(
         let n = pool.n;
 
         // 2. Trace.
-        rays.clear();
-        rays.extend((0..n).map(|i| pool.ray(i)));
-        hits.clear();
-        hits.resize(n, None);
-        scene.bvh.intersect_raw_n(&scene.shapes, &rays, &mut hits);
-        for (i, h) in hits.iter().enumerate() {
-            pool.hit[i] = *h;
-            match h {
-                None => pool.h_shape[i] = MISS,
-                Some(h) => {
-                    pool.h_shape[i] = h.hit.shape;
-                    pool.h_prim[i] = h.hit.prim;
-                    pool.h_t[i] = h.hit.t;
-                    pool.h_u[i] = h.hit.uv.x;
-                    pool.h_v[i] = h.hit.uv.y;
-                    pool.h_block[i] = h.block;
-                    pool.h_lane[i] = h.lane;
-                }
-            }
-        }
+        pool.rays_into(&mut rays);
+        scene
+            .bvh
+            .intersect_raw_n(&scene.shapes, &rays, &mut pool.hit[..n]);
+        pool.spread_hits();
 
         // 3. Shade.
         shadows.clear();

@@ -117,6 +117,43 @@ impl Pool {
         }
     }
 
+    /// The rays of the live paths, in order, into `out`.
+    pub fn rays_into(&self, out: &mut Vec<Ray>) {
+        let n = self.n;
+        let (ox, oy, oz) = (&self.o[0][..n], &self.o[1][..n], &self.o[2][..n]);
+        let (dx, dy, dz) = (&self.d[0][..n], &self.d[1][..n], &self.d[2][..n]);
+        let t_max = &self.t_max[..n];
+        out.clear();
+        out.extend((0..n).map(|i| Ray {
+            o: Vec3::new(ox[i], oy[i], oz[i]),
+            d: Vec3::new(dx[i], dy[i], dz[i]),
+            t_max: t_max[i],
+        }));
+    }
+
+    /// Copies the fields of the live paths' hits (in `hit`) to their own arrays.
+    pub fn spread_hits(&mut self) {
+        let n = self.n;
+        let hits = &self.hit[..n];
+        let (shape, prim) = (&mut self.h_shape[..n], &mut self.h_prim[..n]);
+        let (t, u, v) = (&mut self.h_t[..n], &mut self.h_u[..n], &mut self.h_v[..n]);
+        let (block, lane) = (&mut self.h_block[..n], &mut self.h_lane[..n]);
+        for i in 0..n {
+            match &hits[i] {
+                None => shape[i] = MISS,
+                Some(h) => {
+                    shape[i] = h.hit.shape;
+                    prim[i] = h.hit.prim;
+                    t[i] = h.hit.t;
+                    u[i] = h.hit.uv.x;
+                    v[i] = h.hit.uv.y;
+                    block[i] = h.block;
+                    lane[i] = h.lane;
+                }
+            }
+        }
+    }
+
     /// Path `i`'s wavelengths.
     #[inline]
     pub fn wavelengths(&self, i: usize) -> SampledWavelengths {

@@ -45,7 +45,7 @@ pub(super) struct Scratch {
     /// The surface's rows (see `surface`).
     pub surface: [[f32; 16]; 16],
     /// The light sample's rows (see `sample_lights`).
-    pub light: [[f32; 16]; 24],
+    pub light: [[f32; 16]; 25],
     /// The chosen light of each lane.
     pub light_index: [u32; 16],
 }
@@ -54,7 +54,7 @@ impl Scratch {
     pub fn new() -> Box<Scratch> {
         Box::new(Scratch {
             surface: [[0.0; 16]; 16],
-            light: [[0.0; 16]; 24],
+            light: [[0.0; 16]; 25],
             light_index: [0; 16],
         })
     }
@@ -360,14 +360,22 @@ fn vector_vertex<F: Float>(
             };
             let (so, sd, st) = spawn_to(p, ng, ls.p_light);
             let contrib: Spec<F> = spec!(k => beta[k] * f[k] * ls.l[k] * (w / light_pdf));
+            // Every lane table stored once, then read lane by lane.
+            let w = &mut scratch.light;
+            for (row, v) in w.iter_mut().zip([
+                so.x, so.y, so.z, sd.x, sd.y, sd.z, st, contrib[0], contrib[1], contrib[2],
+                contrib[3],
+            ]) {
+                v.store(row);
+            }
             for i in lanes(ok.bits()) {
-                let c = spec!(k => contrib[k].lane(i));
                 let ray = crate::math::Ray {
-                    o: so.lane(i),
-                    d: sd.lane(i),
-                    t_max: st.lane(i),
+                    o: crate::math::Vec3::new(w[0][i], w[1][i], w[2][i]),
+                    d: crate::math::Vec3::new(w[3][i], w[4][i], w[5][i]),
+                    t_max: w[6][i],
                 };
-                shadows.push((base + i) as u32, ray, SampledSpectrum(c));
+                let c = SampledSpectrum([w[7][i], w[8][i], w[9][i], w[10][i]]);
+                shadows.push((base + i) as u32, ray, c);
             }
         }
     }
@@ -440,33 +448,40 @@ fn sample_lights<F: Float>(
 ) -> LightSample<F> {
     let (scene, prog) = (c.scene, c.prog);
     let zero = F::splat(0.0);
-    // Per lane: the light, and what depends on its own tables.
+    let no_sample = LightSample {
+        valid: F::M::splat(false),
+        l: [zero; 4],
+        wi: V3::new(zero, zero, zero),
+        pdf: zero,
+        p_light: V3::new(zero, zero, zero),
+        delta: F::M::splat(false),
+        pmf: zero,
+    };
+    let Some((chosen, pmf)) = scene.light_sampler.sample_lanes(u_light) else {
+        return no_sample;
+    };
+    // Per lane: what depends on the chosen light's own tables.
     let light = &mut scratch.light_index;
+    chosen.store(light);
     let (sc, rest) = scratch.light.split_at_mut(13);
     let (tri, rest) = rest.split_at_mut(9);
-    let (pmf, ux) = rest.split_at_mut(1);
-    let (pmf, ux) = (&mut pmf[0], &mut ux[0]);
-    let mut chosen = 0u32;
+    let (us, ux) = rest.split_at_mut(2);
+    let ux = &mut ux[0];
+    u0.store(&mut us[0]);
+    u1.store(&mut us[1]);
+    // Lane lights: the triangle's corners and the remapped u0 (alias table in f64); other
+    // lights: their own scalar sample.
     let mut in_lanes = 0u32;
-    // Lane lights: the triangle's corners and the remapped u0 (alias table in f64).
-
-    // Other lights: the scalar sample.
-
     let mut sc_ok = 0u32;
     let mut delta = 0u32;
     for i in lanes(m.bits()) {
-        let Some((li, pm)) = scene.light_sampler.sample(u_light.lane(i)) else {
-            continue;
-        };
-        chosen |= 1 << i;
-        light[i] = li as u32;
-        pmf[i] = pm;
+        let li = light[i] as usize;
         if prog.light_lanes[li] == 1 {
             in_lanes |= 1 << i;
             let Shape::Mesh(mesh) = &scene.shapes[prog.light_shape[li] as usize] else {
                 unreachable!("lane lights are meshes")
             };
-            let (t, r) = mesh.alias().sample(u0.lane(i));
+            let (t, r) = mesh.alias().sample(us[0][i]);
             ux[i] = r;
             let corners = mesh.triangle(t as u32).map(|k| mesh.position(k));
             for (k, q) in corners.iter().enumerate() {
@@ -483,7 +498,7 @@ fn sample_lights<F: Float>(
                 lambda: std::array::from_fn(|k| lambda[k].lane(i)),
                 pdf: std::array::from_fn(|k| wl_pdf[k].lane(i)),
             };
-            let u = Vec2::new(u0.lane(i), u1.lane(i));
+            let u = Vec2::new(us[0][i], us[1][i]);
             if let Some(ls) = scene.lights[li].sample_li(&ctx, u, &wl, &scene.shapes) {
                 sc_ok |= 1 << i;
                 delta |= (ls.is_delta as u32) << i;
@@ -506,7 +521,7 @@ fn sample_lights<F: Float>(
         pdf: F::load(&sc[10]),
         p_light: V3::new(F::load(&sc[7]), F::load(&sc[8]), F::load(&sc[9])),
         delta: F::M::from_bits(delta),
-        pmf: F::load(pmf),
+        pmf,
     };
     if in_lanes != 0 {
         // Mesh area lights ([`crate::shape::TriangleMesh::sample_direct`] and
@@ -537,6 +552,5 @@ fn sample_lights<F: Float>(
         out.pdf = F::select(lm, pdf, out.pdf);
         out.p_light = V3::select(lm, pos, out.p_light);
     }
-    let _ = chosen;
     out
 }
