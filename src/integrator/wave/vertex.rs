@@ -12,7 +12,7 @@
 //! a point on its triangle) are fetched lane by lane; the arithmetic runs in lanes.
 
 use super::bsdf::LaneBsdf;
-use super::pool::{Pool, Spectra, MISS};
+use super::pool::{Col, Pool, Spectra, MISS};
 use super::program::{
     Program, SpectrumTable, SPEC_ALBEDO, SPEC_CONSTANT, SPEC_CURVE, SPEC_ILLUMINANT, SPEC_UNBOUNDED,
 };
@@ -64,11 +64,11 @@ impl Scratch {
 pub(super) type Spec<F> = [F; 4];
 
 #[inline(always)]
-fn load3<F: Float>(a: &[Vec<f32>; 3], base: usize) -> V3<F> {
+fn load3<F: Float>(a: &[Col<f32>; 3], base: usize) -> V3<F> {
     V3::new(
-        F::load_at(&a[0], base),
-        F::load_at(&a[1], base),
-        F::load_at(&a[2], base),
+        F::load_at(&a[0][..], base),
+        F::load_at(&a[1][..], base),
+        F::load_at(&a[2][..], base),
     )
 }
 
@@ -91,21 +91,21 @@ fn store_masked_int<F: Float>(a: &mut [u32], base: usize, m: F::M, v: F::I) {
 }
 
 #[inline(always)]
-fn store3_masked<F: Float>(a: &mut [Vec<f32>; 3], base: usize, m: F::M, v: V3<F>) {
-    store_masked(&mut a[0], base, m, v.x);
-    store_masked(&mut a[1], base, m, v.y);
-    store_masked(&mut a[2], base, m, v.z);
+fn store3_masked<F: Float>(a: &mut [Col<f32>; 3], base: usize, m: F::M, v: V3<F>) {
+    store_masked(&mut a[0][..], base, m, v.x);
+    store_masked(&mut a[1][..], base, m, v.y);
+    store_masked(&mut a[2][..], base, m, v.z);
 }
 
 #[inline(always)]
 fn load_spec<F: Float>(a: &Spectra, base: usize) -> Spec<F> {
-    spec!(k => F::load_at(&a[k], base))
+    spec!(k => F::load_at(&a[k][..], base))
 }
 
 #[inline(always)]
 fn store_spec_masked<F: Float>(a: &mut Spectra, base: usize, m: F::M, v: Spec<F>) {
     for k in 0..4 {
-        store_masked(&mut a[k], base, m, v[k]);
+        store_masked(&mut a[k][..], base, m, v[k]);
     }
 }
 
@@ -141,8 +141,8 @@ pub(super) fn lanes(bits: u32) -> impl Iterator<Item = usize> {
 fn draw<F: Float>(pool: &mut Pool, base: usize, m: F::M, kind: SamplerKind) -> F {
     if kind == SamplerKind::Independent {
         let u = F::pcg_next_f32(&mut pool.rng_state[base..], &pool.rng_inc[base..], m);
-        let dim = F::I::load_at(&pool.dim, base);
-        store_masked_int::<F>(&mut pool.dim, base, m, dim + F::I::splat(1));
+        let dim = F::I::load_at(&pool.dim[..], base);
+        store_masked_int::<F>(&mut pool.dim[..], base, m, dim + F::I::splat(1));
         return u;
     }
     let mut u = [0.0f32; 16];
@@ -222,12 +222,19 @@ pub(super) fn shade_chunk<F: Float>(
 ) {
     let n = pool.n - base;
     let active = F::M::from_bits(if n >= 32 { u32::MAX } else { (1u32 << n) - 1 });
-    let shape = F::I::load_at(&pool.h_shape, base);
+    let shape = F::I::load_at(&pool.h_shape[..], base);
     let miss = shape.eq(F::I::splat(MISS as i32));
     let shape = F::I::select(miss, F::I::splat(0), shape);
     let in_lanes = F::I::gather(&c.prog.shape_lanes, shape).eq(F::I::splat(1));
     let vector = active.and_not(miss) & in_lanes;
-    for i in lanes(active.and_not(vector).bits()) {
+    let mut scalar = active.and_not(vector);
+    if c.scene.infinite_lights.is_empty() {
+        // Escaped rays see nothing and end.
+        let escaped = active & miss;
+        store_masked_int::<F>(&mut pool.alive[..], base, escaped, F::I::splat(0));
+        scalar = scalar.and_not(escaped);
+    }
+    for i in lanes(scalar.bits()) {
         scalar_vertex(c, pool, base + i, shadows);
     }
     if vector.any() {
@@ -281,14 +288,14 @@ fn vector_vertex<F: Float>(
 
     let surface::Surface { p, ng, ns, dpdu } =
         surface::surfaces::<F>(c, pool, base, m, shape, &mut scratch.surface);
-    let t = F::load_at(&pool.h_t, base);
-    let path_length = F::load_at(&pool.path_length, base) + t;
-    store_masked(&mut pool.path_length, base, m, path_length);
+    let t = F::load_at(&pool.h_t[..], base);
+    let path_length = F::load_at(&pool.path_length[..], base) + t;
+    store_masked(&mut pool.path_length[..], base, m, path_length);
 
     // Emission from an area light that the path hit.
-    let depth = F::I::load_at(&pool.depth, base);
-    let specular = F::I::load_at(&pool.specular, base).eq(F::I::splat(1));
-    let prev_pdf = F::load_at(&pool.prev_pdf, base);
+    let depth = F::I::load_at(&pool.depth[..], base);
+    let specular = F::I::load_at(&pool.specular[..], base).eq(F::I::splat(1));
+    let prev_pdf = F::load_at(&pool.prev_pdf[..], base);
     let emit1 = F::I::gather(&prog.shape_emit, shape);
     let mut emit = m.and_not(emit1.eq(F::I::splat(0)));
     if cfg.hide_emitters {
@@ -327,7 +334,7 @@ fn vector_vertex<F: Float>(
     }
 
     let depth = depth + F::I::splat(1);
-    store_masked_int::<F>(&mut pool.depth, base, m, depth);
+    store_masked_int::<F>(&mut pool.depth[..], base, m, depth);
     let mut alive = m.and_not(depth.gt(F::I::splat(cfg.max_depth as i32 - 1)));
 
     // The BSDF at the hit.
@@ -393,16 +400,16 @@ fn vector_vertex<F: Float>(
     }
     alive = alive & is_finite(&beta);
     let specular_i = F::I::select(bs.specular, F::I::splat(1), F::I::splat(0));
-    let eta_scale = F::load_at(&pool.eta_scale, base);
+    let eta_scale = F::load_at(&pool.eta_scale[..], base);
     let eta_scale = F::select(bs.transmission, eta_scale * (bs.eta * bs.eta), eta_scale);
-    store_masked(&mut pool.eta_scale, base, alive, eta_scale);
-    store_masked(&mut pool.prev_pdf, base, alive, bs.pdf);
-    store_masked_int::<F>(&mut pool.specular, base, alive, specular_i);
+    store_masked(&mut pool.eta_scale[..], base, alive, eta_scale);
+    store_masked(&mut pool.prev_pdf[..], base, alive, bs.pdf);
+    store_masked_int::<F>(&mut pool.specular[..], base, alive, specular_i);
     store3_masked(&mut pool.prev_p, base, alive, p);
     store3_masked(&mut pool.prev_n, base, alive, ng);
     store3_masked(&mut pool.o, base, alive, spawn_origin(p, ng, wi));
     store3_masked(&mut pool.d, base, alive, wi);
-    store_masked(&mut pool.t_max, base, alive, F::splat(f32::INFINITY));
+    store_masked(&mut pool.t_max[..], base, alive, F::splat(f32::INFINITY));
 
     // Russian roulette on the throughput, corrected for radiance compression at refraction.
     let roulette = alive & depth.gt(F::I::splat(cfg.rr_depth as i32 - 1));
@@ -427,7 +434,7 @@ fn vector_vertex<F: Float>(
     store_spec_masked(&mut pool.beta, base, m, beta);
     store_spec_masked(&mut pool.l, base, m, l);
     let alive_i = F::I::select(alive, F::I::splat(1), F::I::splat(0));
-    store_masked_int::<F>(&mut pool.alive, base, m, alive_i);
+    store_masked_int::<F>(&mut pool.alive[..], base, m, alive_i);
 }
 
 /// Picks a light for each lane of `m` and samples a direction to it from (p, ng)
