@@ -194,7 +194,9 @@ impl Block {
                 }
                 continue;
             }
-            let Some((t, v, w, inv)) = &arrays else { continue };
+            let Some((t, v, w, inv)) = &arrays else {
+                continue;
+            };
             if best.takes(t[l], id) {
                 found = Some((l, Vec2::new(v[l] * inv[l], w[l] * inv[l])));
             }
