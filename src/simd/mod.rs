@@ -24,6 +24,9 @@ mod x512;
 mod x86;
 
 pub use vec::{V2, V3};
+
+#[cfg(test)]
+mod tests;
 #[cfg(target_arch = "x86_64")]
 pub use x512::{F16, I16, M16};
 #[cfg(target_arch = "x86_64")]
