@@ -1,4 +1,5 @@
 //! Every lane type against one lane: each operation, on random values and on the special ones
+#![allow(clippy::needless_range_loop)] // lanes and arrays are indexed together
 //! (±0, ±∞, NaN, subnormals), gives in every lane the bits `f32`/`i32` give.
 
 use super::{Float, Int, Mask};
