@@ -1,6 +1,8 @@
 //! Every lane type against one lane: each operation, on random values and on the special ones
-#![allow(clippy::needless_range_loop)] // lanes and arrays are indexed together
 //! (±0, ±∞, NaN, subnormals), gives in every lane the bits `f32`/`i32` give.
+
+// Lanes and arrays are indexed together.
+#![allow(clippy::needless_range_loop)]
 
 use super::{Float, Int, Mask};
 use crate::math::Pcg32;
