@@ -10,6 +10,7 @@ use crate::math::Vec2;
 use crate::sampler::{SamplerKind, SamplerState};
 use crate::scene::Scene;
 use crate::simd::{Float, Int, Mask};
+use crate::spectrum::cie::d65_lanes;
 use crate::spectrum::SampledWavelengths;
 
 /// The jobs of a tile's pass: pixels of the tile (row-major) times sample indices.
@@ -60,6 +61,7 @@ pub(super) fn start<F: Float>(
     for j in 0..4 {
         lambda[j].store_at(&mut pool.lambda[j][..], base);
         pdf[j].store_at(&mut pool.wl_pdf[j][..], base);
+        d65_lanes(lambda[j]).store_at(&mut pool.d65[j][..], base);
     }
     let ox = scene.filter.sample_1d_lanes(F::load(&u[1]));
     let oy = scene.filter.sample_1d_lanes(F::load(&u[2]));

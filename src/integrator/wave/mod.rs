@@ -54,6 +54,7 @@ macro_rules! spec {
 
 mod bsdf;
 mod ends;
+mod lookup;
 mod pool;
 pub mod program;
 mod surface;

@@ -44,6 +44,8 @@ pub(super) struct Pool {
     pub beta: Spectra,
     pub lambda: Spectra,
     pub wl_pdf: Spectra,
+    /// D65 at the path's wavelengths (for RGB emission), looked up once per path.
+    pub d65: Spectra,
     pub eta_scale: Col<f32>,
     pub prev_pdf: Col<f32>,
     pub path_length: Col<f32>,
@@ -89,6 +91,7 @@ impl Pool {
             beta: spectra(),
             lambda: spectra(),
             wl_pdf: spectra(),
+            d65: spectra(),
             eta_scale: col(0.0),
             prev_pdf: col(0.0),
             path_length: col(0.0),
@@ -248,7 +251,13 @@ impl Pool {
             mv!(self.o[a], self.d[a], self.prev_p[a], self.prev_n[a]);
         }
         for k in 0..4 {
-            mv!(self.l[k], self.beta[k], self.lambda[k], self.wl_pdf[k]);
+            mv!(
+                self.l[k],
+                self.beta[k],
+                self.lambda[k],
+                self.wl_pdf[k],
+                self.d65[k]
+            );
         }
         mv!(
             self.t_max,

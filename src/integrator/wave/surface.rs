@@ -3,6 +3,7 @@
 //! from the corners kept in the BVH's leaf blocks) and as each shape's own code computes them
 //! for the others (lane by lane).
 
+use super::lookup::Groups;
 use super::pool::Pool;
 use super::vertex::{lanes, load_v3, Ctx};
 use crate::accel::BLOCK_WORDS;
@@ -25,11 +26,11 @@ pub(super) fn surfaces<F: Float>(
     pool: &Pool,
     base: usize,
     m: F::M,
-    shape: F::I,
+    shapes: &Groups<F>,
     w: &mut [[f32; 16]; 16],
 ) -> Surface<F> {
     let scene = c.scene;
-    let mesh = m & F::I::gather(&c.prog.shape_mesh, shape).eq(F::I::splat(1));
+    let mesh = m & shapes.i(&c.prog.shape_mesh).eq(F::I::splat(1));
     // Lane by lane: what lives in each shape's own arrays (a triangle's corner UVs and
     // normals), or the whole interaction of other shapes.
     let mut flip = 0u32;

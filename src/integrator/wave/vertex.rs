@@ -12,6 +12,7 @@
 //! a point on its triangle) are fetched lane by lane; the arithmetic runs in lanes.
 
 use super::bsdf::LaneBsdf;
+use super::lookup::Groups;
 use super::pool::{Col, Pool, Spectra, MISS};
 use super::program::{
     Program, SpectrumTable, SPEC_ALBEDO, SPEC_CONSTANT, SPEC_CURVE, SPEC_ILLUMINANT, SPEC_UNBOUNDED,
@@ -27,7 +28,6 @@ use crate::sampler::{Sampler, SamplerKind};
 use crate::scene::Scene;
 use crate::shape::{area_to_solid_angle_lanes, Shape};
 use crate::simd::{Float, Int, Mask, V3};
-use crate::spectrum::cie::d65_lanes;
 use crate::spectrum::rgb2spec::sigmoid_poly_lanes;
 use crate::spectrum::SampledSpectrum;
 
@@ -154,16 +154,20 @@ fn draw<F: Float>(pool: &mut Pool, base: usize, m: F::M, kind: SamplerKind) -> F
     F::load(&u)
 }
 
-/// Table spectra at the lanes' wavelengths ([`crate::spectrum::Spectrum::sample`]).
+/// Table spectra at the lanes' wavelengths ([`crate::spectrum::Spectrum::sample`]), for the
+/// lanes of `m` (the others are 0); `d65` is D65 at those wavelengths.
 #[inline(always)]
-pub(super) fn eval_spectrum<F: Float>(t: &SpectrumTable, idx: F::I, lambda: &Spec<F>) -> Spec<F> {
-    let mode = F::I::gather(&t.mode, idx);
-    let (c0, c1, c2) = (
-        F::gather(&t.c0, idx),
-        F::gather(&t.c1, idx),
-        F::gather(&t.c2, idx),
-    );
-    let scale = F::gather(&t.scale, idx);
+pub(super) fn eval_spectrum<F: Float>(
+    t: &SpectrumTable,
+    idx: F::I,
+    m: F::M,
+    lambda: &Spec<F>,
+    d65: &Spec<F>,
+) -> Spec<F> {
+    let g = Groups::<F>::new(idx, m);
+    let mode = g.i(&t.mode);
+    let (c0, c1, c2) = (g.f(&t.c0), g.f(&t.c1), g.f(&t.c2));
+    let scale = g.f(&t.scale);
     let constant = mode.eq(F::I::splat(SPEC_CONSTANT as i32));
     let albedo = mode.eq(F::I::splat(SPEC_ALBEDO as i32));
     let unbounded = mode.eq(F::I::splat(SPEC_UNBOUNDED as i32));
@@ -171,11 +175,11 @@ pub(super) fn eval_spectrum<F: Float>(t: &SpectrumTable, idx: F::I, lambda: &Spe
     let any_illuminant = illuminant.any();
     // A loop, not `spec`: this body is too large for a closure to be inlined.
     let mut out = [c0; 4];
-    for (o, &l) in out.iter_mut().zip(lambda) {
+    for ((o, &l), &d) in out.iter_mut().zip(lambda).zip(d65) {
         let s = sigmoid_poly_lanes(c0, c1, c2, l);
         let mut v = F::select(unbounded, s * scale, s);
         if any_illuminant {
-            v = F::select(illuminant, scale * s * d65_lanes(l), v);
+            v = F::select(illuminant, scale * s * d, v);
         }
         let v = F::select(albedo, s, v);
         *o = F::select(constant, c0, v);
@@ -183,7 +187,7 @@ pub(super) fn eval_spectrum<F: Float>(t: &SpectrumTable, idx: F::I, lambda: &Spe
     let curves = mode.eq(F::I::splat(SPEC_CURVE as i32));
     if curves.any() {
         // Tabulated curves, one distinct curve at a time.
-        let curve = F::I::gather(&t.curve, idx);
+        let curve = g.i(&t.curve);
         let mut todo = curves.bits();
         while todo != 0 {
             let c = curve.lane(todo.trailing_zeros() as usize);
@@ -225,7 +229,8 @@ pub(super) fn shade_chunk<F: Float>(
     let shape = F::I::load_at(&pool.h_shape[..], base);
     let miss = shape.eq(F::I::splat(MISS as i32));
     let shape = F::I::select(miss, F::I::splat(0), shape);
-    let in_lanes = F::I::gather(&c.prog.shape_lanes, shape).eq(F::I::splat(1));
+    let shapes = Groups::<F>::new(shape, active.and_not(miss));
+    let in_lanes = shapes.i(&c.prog.shape_lanes).eq(F::I::splat(1));
     let vector = active.and_not(miss) & in_lanes;
     let mut scalar = active.and_not(vector);
     if c.scene.infinite_lights.is_empty() {
@@ -238,7 +243,7 @@ pub(super) fn shade_chunk<F: Float>(
         scalar_vertex(c, pool, base + i, shadows);
     }
     if vector.any() {
-        vector_vertex::<F>(c, pool, base, vector, shape, shadows, scratch);
+        vector_vertex::<F>(c, pool, base, vector, &shapes, shadows, scratch);
     }
 }
 
@@ -273,7 +278,7 @@ fn vector_vertex<F: Float>(
     pool: &mut Pool,
     base: usize,
     m: F::M,
-    shape: F::I,
+    shapes: &Groups<F>,
     shadows: &mut Shadows,
     scratch: &mut Scratch,
 ) {
@@ -283,11 +288,12 @@ fn vector_vertex<F: Float>(
     let d = load3::<F>(&pool.d, base);
     let wo = -d;
     let lambda = load_spec::<F>(&pool.lambda, base);
+    let d65 = load_spec::<F>(&pool.d65, base);
     let mut beta = load_spec::<F>(&pool.beta, base);
     let mut l = load_spec::<F>(&pool.l, base);
 
     let surface::Surface { p, ng, ns, dpdu } =
-        surface::surfaces::<F>(c, pool, base, m, shape, &mut scratch.surface);
+        surface::surfaces::<F>(c, pool, base, m, shapes, &mut scratch.surface);
     let t = F::load_at(&pool.h_t[..], base);
     let path_length = F::load_at(&pool.path_length[..], base) + t;
     store_masked(&mut pool.path_length[..], base, m, path_length);
@@ -296,18 +302,21 @@ fn vector_vertex<F: Float>(
     let depth = F::I::load_at(&pool.depth[..], base);
     let specular = F::I::load_at(&pool.specular[..], base).eq(F::I::splat(1));
     let prev_pdf = F::load_at(&pool.prev_pdf[..], base);
-    let emit1 = F::I::gather(&prog.shape_emit, shape);
+    let emit1 = shapes.i(&prog.shape_emit);
     let mut emit = m.and_not(emit1.eq(F::I::splat(0)));
     if cfg.hide_emitters {
         emit = emit.and_not(depth.eq(F::I::splat(0)));
     }
     if emit.any() {
         let light = F::I::select(emit, emit1 - F::I::splat(1), F::I::splat(0));
+        let lights = Groups::<F>::new(light, emit);
         let front = ng.dot(wo).gt(zero);
         let le = eval_spectrum(
             &prog.spectra,
-            F::I::gather(&prog.light_spec, light),
+            lights.i(&prog.light_spec),
+            emit,
             &lambda,
+            &d65,
         );
         let le = spec!(k => F::select(front, le[k], zero));
         let shows = emit.and_not(is_black(&le));
@@ -318,13 +327,9 @@ fn vector_vertex<F: Float>(
                 one
             } else {
                 let prev_p = load3::<F>(&pool.prev_p, base);
-                let pdf_li = area_to_solid_angle_lanes(
-                    F::gather(&prog.light_inv_area, light),
-                    prev_p,
-                    p,
-                    ng,
-                );
-                power_heuristic_lanes(prev_pdf, F::gather(&prog.light_pmf, light) * pdf_li)
+                let pdf_li =
+                    area_to_solid_angle_lanes(lights.f(&prog.light_inv_area), prev_p, p, ng);
+                power_heuristic_lanes(prev_pdf, lights.f(&prog.light_pmf) * pdf_li)
             };
             let w = F::select(specular, one, w);
             for k in 0..4 {
@@ -338,9 +343,9 @@ fn vector_vertex<F: Float>(
     let mut alive = m.and_not(depth.gt(F::I::splat(cfg.max_depth as i32 - 1)));
 
     // The BSDF at the hit.
-    let mat = F::I::gather(&prog.shape_mat, shape);
+    let mat = shapes.i(&prog.shape_mat);
     let frame = FrameL::from_normal_tangent(ns, dpdu);
-    let bsdf = LaneBsdf::new(prog, alive, mat, &lambda);
+    let bsdf = LaneBsdf::new(prog, alive, mat, &lambda, &d65);
     alive = alive.and_not(bsdf.none());
     let wo_l = frame.to_local(wo);
 
@@ -351,7 +356,9 @@ fn vector_vertex<F: Float>(
     let nee = alive & bsdf.non_specular();
     if cfg.use_nee && nee.any() {
         let wl_pdf = load_spec::<F>(&pool.wl_pdf, base);
-        let ls = sample_lights(c, nee, p, ng, u_light, u0, u1, &lambda, &wl_pdf, scratch);
+        let ls = sample_lights(
+            c, nee, p, ng, u_light, u0, u1, &lambda, &wl_pdf, &d65, scratch,
+        );
         let wi_l = frame.to_local(ls.wi);
         let (f, bsdf_pdf) = bsdf.f_pdf(wo_l, wi_l);
         let cos = ls.wi.dot(frame.n).abs();
@@ -451,6 +458,7 @@ fn sample_lights<F: Float>(
     u1: F,
     lambda: &Spec<F>,
     wl_pdf: &Spec<F>,
+    d65: &Spec<F>,
     scratch: &mut Scratch,
 ) -> LightSample<F> {
     let (scene, prog) = (c.scene, c.prog);
@@ -542,15 +550,16 @@ fn sample_lights<F: Float>(
         let b2 = F::splat(1.0) - b0 - b1;
         let pos = p0 * b0 + p1 * b1 + p2 * b2;
         let n = (p1 - p0).cross(p2 - p0).normalize();
-        let flip = F::I::gather(&prog.light_flip, light).eq(F::I::splat(1));
+        let lights = Groups::<F>::new(light, lm);
+        let flip = lights.i(&prog.light_flip).eq(F::I::splat(1));
         let n = V3::select(flip, -n, n);
-        let pdf = area_to_solid_angle_lanes(F::gather(&prog.light_inv_area, light), p, pos, n);
+        let pdf = area_to_solid_angle_lanes(lights.f(&prog.light_inv_area), p, pos, n);
         let dd = pos - p;
         let dist2 = dd.length_squared();
         let wi = dd / dist2.sqrt();
         let ok = pdf.gt(zero) & pdf.is_finite() & dist2.gt(zero) & !n.dot(-wi).le(zero);
         let ok = lm & ok;
-        let le = eval_spectrum(&prog.spectra, F::I::gather(&prog.light_spec, light), lambda);
+        let le = eval_spectrum(&prog.spectra, lights.i(&prog.light_spec), lm, lambda, d65);
         out.valid = out.valid | ok;
         for (o, &e) in out.l.iter_mut().zip(&le) {
             *o = F::select(lm, e, *o);
