@@ -202,8 +202,8 @@ fn daylight(a: &mut Args, with_sun: bool, with_sky: bool) -> Result<Vec<Light>, 
         ));
     }
     let mut lights = Vec::new();
-    lights.extend(parts.sun.map(Light::Sun));
-    lights.extend(parts.sky.map(Light::Sky));
+    lights.extend(parts.sun.map(|sun| Light::Sun(sun.into())));
+    lights.extend(parts.sky.map(|sky| Light::Sky(sky.into())));
     Ok(lights)
 }
 
@@ -288,6 +288,7 @@ pub(crate) use super::test_util;
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::light::infinite::InfiniteLight;
 
     #[test]
     fn time_and_place_put_the_morning_sun_in_the_east() {

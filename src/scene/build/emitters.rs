@@ -35,6 +35,7 @@ pub(crate) fn area_light(node: &Node, shape_index: u32) -> Result<Light, SceneEr
 
 #[cfg(test)]
 mod tests {
+    use crate::light::infinite::InfiniteLight;
     use crate::light::Light;
     use crate::scene::build::{load_scene, load_scene_str, LoadOptions};
     use crate::scene::mitsuba::Warning;
