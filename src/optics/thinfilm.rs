@@ -136,18 +136,9 @@ pub(crate) fn film_r4(cos_theta0: f64, n0: F4, n1: F4, d_nm: f64, n2: F4, lambda
 
 /// [`film_rt_complex`]'s reflectance, the same operations in the same order.
 fn film_r_complex(cos_theta0: f64, n0: f64, n1: C, d_nm: f64, n2: C, lambda_nm: f64) -> f64 {
-    let Complex {
-        n0c,
-        c0,
-        n1,
-        c1,
-        n2,
-        c2,
-        e2,
-        ..
-    } = Complex::new(cos_theta0, n0, n1, d_nm, n2, lambda_nm);
-    let airy = |r01: C, r12: C| (r01 + r12 * e2) / (C::new(1.0, 0.0) + r01 * r12 * e2);
-    let grazing = match (n0c * c0).re.partial_cmp(&0.0) {
+    let k = Complex::new(cos_theta0, n0, n1, d_nm, n2, lambda_nm);
+    let airy = |(r01, r12): (C, C)| (r01 + r12 * k.e2) / (C::new(1.0, 0.0) + r01 * r12 * k.e2);
+    let grazing = match (k.n0c * k.c0).re.partial_cmp(&0.0) {
         Some(std::cmp::Ordering::Greater) => false,
         // Exactly grazing incidence, or NaN (film_rt treats both as total reflection).
         _ => true,
@@ -155,15 +146,8 @@ fn film_r_complex(cos_theta0: f64, n0: f64, n1: C, d_nm: f64, n2: C, lambda_nm: 
     if grazing {
         return 1.0;
     }
-    let fin = |x: f64| {
-        if x.is_finite() {
-            x.clamp(0.0, 1.0)
-        } else {
-            0.0
-        }
-    };
-    let r_s = airy(rs(n0c, c0, n1, c1), rs(n1, c1, n2, c2)).norm_sqr();
-    let r_p = airy(rp(n0c, c0, n1, c1), rp(n1, c1, n2, c2)).norm_sqr();
+    let r_s = airy(k.interfaces(rs)).norm_sqr();
+    let r_p = airy(k.interfaces(rp)).norm_sqr();
     0.5 * (fin(r_s) + fin(r_p))
 }
 
@@ -265,61 +249,56 @@ impl Complex {
             e2: e1 * e1,
         }
     }
+
+    /// An interface amplitude (`rs`, `rp`, `ts` or `tp`) at the film's top and at its base.
+    #[inline(always)]
+    fn interfaces(&self, amplitude: fn(C, C, C, C) -> C) -> (C, C) {
+        (
+            amplitude(self.n0c, self.c0, self.n1, self.c1),
+            amplitude(self.n1, self.c1, self.n2, self.c2),
+        )
+    }
 }
 
-/// Interface amplitudes (s and p).
+/// A power fraction clamped to [0, 1]; not finite (a degenerate 0/0): nothing.
+fn fin(x: f64) -> f64 {
+    if x.is_finite() {
+        x.clamp(0.0, 1.0)
+    } else {
+        0.0
+    }
+}
+
+/// Interface amplitudes (reflected and transmitted, s and p).
 fn rs(ni: C, ci: C, nj: C, cj: C) -> C {
     (ni * ci - nj * cj) / (ni * ci + nj * cj)
 }
 fn rp(ni: C, ci: C, nj: C, cj: C) -> C {
     (nj * ci - ni * cj) / (nj * ci + ni * cj)
 }
+fn ts(ni: C, ci: C, nj: C, cj: C) -> C {
+    (C::new(2.0, 0.0) * ni * ci) / (ni * ci + nj * cj)
+}
+fn tp(ni: C, ci: C, nj: C, cj: C) -> C {
+    (C::new(2.0, 0.0) * ni * ci) / (nj * ci + ni * cj)
+}
 
 fn film_rt_complex(cos_theta0: f64, n0: f64, n1: C, d_nm: f64, n2: C, lambda_nm: f64) -> FilmRt {
-    let Complex {
-        n0c,
-        c0,
-        n1,
-        c1,
-        n2,
-        c2,
-        e1,
-        e2,
-    } = Complex::new(cos_theta0, n0, n1, d_nm, n2, lambda_nm);
-    let ts = |ni: C, ci: C, nj: C, cj: C| (C::new(2.0, 0.0) * ni * ci) / (ni * ci + nj * cj);
-    let tp = |ni: C, ci: C, nj: C, cj: C| (C::new(2.0, 0.0) * ni * ci) / (nj * ci + ni * cj);
-
-    let airy = |r01: C, r12: C, t01: C, t12: C| {
-        let den = C::new(1.0, 0.0) + r01 * r12 * e2;
-        ((r01 + r12 * e2) / den, t01 * t12 * e1 / den)
+    let k = Complex::new(cos_theta0, n0, n1, d_nm, n2, lambda_nm);
+    let airy = |(r01, r12): (C, C), (t01, t12): (C, C)| {
+        let den = C::new(1.0, 0.0) + r01 * r12 * k.e2;
+        ((r01 + r12 * k.e2) / den, t01 * t12 * k.e1 / den)
     };
-    let (r_s, t_s) = airy(
-        rs(n0c, c0, n1, c1),
-        rs(n1, c1, n2, c2),
-        ts(n0c, c0, n1, c1),
-        ts(n1, c1, n2, c2),
-    );
-    let (r_p, t_p) = airy(
-        rp(n0c, c0, n1, c1),
-        rp(n1, c1, n2, c2),
-        tp(n0c, c0, n1, c1),
-        tp(n1, c1, n2, c2),
-    );
+    let (r_s, t_s) = airy(k.interfaces(rs), k.interfaces(ts));
+    let (r_p, t_p) = airy(k.interfaces(rp), k.interfaces(tp));
 
     // Power transmittance: ratio of normal energy fluxes (tmm's convention for s and p).
-    let den_s = (n0c * c0).re;
-    let den_p = (n0c * c0.conj()).re;
-    let fin = |x: f64| {
-        if x.is_finite() {
-            x.clamp(0.0, 1.0)
-        } else {
-            0.0
-        }
-    };
+    let den_s = (k.n0c * k.c0).re;
+    let den_p = (k.n0c * k.c0.conj()).re;
     let (ts_pow, tp_pow) = if den_s > 0.0 {
         (
-            t_s.norm_sqr() * (n2 * c2).re / den_s,
-            t_p.norm_sqr() * (n2 * c2.conj()).re / den_p,
+            t_s.norm_sqr() * (k.n2 * k.c2).re / den_s,
+            t_p.norm_sqr() * (k.n2 * k.c2.conj()).re / den_p,
         )
     } else {
         // Exactly grazing incidence: nothing enters.

@@ -149,14 +149,7 @@ impl Cylinder {
         // b² − ac as a·(1 − |f − (b/a) g|²): no cancellation for distant origins.
         let l = f - (b / a) * g;
         let disc = a * (1.0 - l.length_squared());
-        if disc < 0.0 {
-            return None;
-        }
-        let q = -(b + disc.sqrt().copysign(b));
-        let (mut t0, mut t1) = if q == 0.0 { (0.0, 0.0) } else { (c / q, q / a) };
-        if t0 > t1 {
-            std::mem::swap(&mut t0, &mut t1);
-        }
+        let (t0, t1) = super::quadratic_roots(a, b, c, disc)?;
         let t_max = ray.t_max as f64;
         [t0, t1]
             .into_iter()
