@@ -22,8 +22,16 @@ fn transform_of(ops: &str) -> Transform {
     root.props.get_transform_opt("t").unwrap().unwrap()
 }
 
-fn err_of(body: &str) -> String {
+pub(super) fn err_of(body: &str) -> String {
     load(&scene(body)).unwrap_err().to_string()
+}
+
+/// The error of loading a 3.0 scene with `body`, checked to start with `at` (the place:
+/// file:line:column or a prefix of it) and to mention `says`.
+pub(super) fn err_at(body: &str, at: &str, says: &str) -> String {
+    let e = err_of(body);
+    assert!(e.starts_with(at) && e.contains(says), "{body:?}: {e}");
+    e
 }
 
 #[test]
