@@ -197,6 +197,11 @@ pub(crate) const MESH_FILE: &[Param] = &[
         .doc("flat shading: ignore the file's normals and do not smooth"),
 ];
 
+/// `flip_tex_coords` of the OBJ and PLY plugins, with the default Mitsuba 3 gives each.
+pub(crate) const fn flip_tex_coords(default: bool) -> Param {
+    Param::bool("flip_tex_coords", default).doc("v ↦ 1 − v (Mitsuba 3 flips OBJ's, not PLY's)")
+}
+
 /// The mesh files a plugin reads.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum MeshFile {
