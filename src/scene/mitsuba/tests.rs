@@ -219,7 +219,7 @@ fn unused_parameters_are_listed_exactly() {
     .unwrap();
     let s = &root.children[0].node;
     s.props.get_float("radius", 1.0).unwrap();
-    s.props.get_bool("flip_normals", false).unwrap();
+    s.props.get_bool_opt("flip_normals").unwrap();
     let w = check_unused(&root);
     let names: Vec<_> = w.iter().map(|w| (w.loc.line, w.message.clone())).collect();
     assert_eq!(
