@@ -3,14 +3,10 @@
 
 use super::Builder;
 use crate::light::Light;
-use crate::plugin::{registry, Node, SceneError, Warning};
+use crate::plugin::{registry, Node, SceneError};
 
-pub(crate) fn add_emitter(
-    b: &mut Builder,
-    node: &Node,
-    warnings: &mut Vec<Warning>,
-) -> Result<(), SceneError> {
-    b.lights.extend(registry::emitter(node, None, warnings)?);
+pub(crate) fn add_emitter(b: &mut Builder, node: &Node) -> Result<(), SceneError> {
+    b.lights.extend(registry::emitter(node, None, b.warnings)?);
     Ok(())
 }
 
