@@ -24,8 +24,40 @@ pixels with C* > 8 (hue means nothing for greys); the same for the highlights (t
 of dorsal pixels), counting only the saturated ones (C* > 20); and the belly's mean L* (a belly pixel is one of the `snake.belly` part whose
 albedo confirms it, as the belly shows only as a strip where a stretch of the coil lies tilted).
 
+The check passes when every criterion below holds; each is printed with its threshold and
+PASS or FAIL (the exit status stays 0: this is a measurement, not a test). The thresholds come
+from the descriptions of the animal and colour charts, not from the renders:
+
+  dull light, dorsal skin
+    plain     mean C*ab < 10. The animal is "dark brown to blackish" above. In the Munsell soil
+              colour charts dark brown (7.5YR 3/2) and very dark brown (10YR 2/2) have Munsell
+              chroma 2, which is C*ab 12.5 and 11.7; blackish ones (10YR 2/1, 3/1) chroma 1,
+              C*ab 5.8 and 6.3 (Munsell renotation data converted with colour-science 0.4.7,
+              illuminant C adapted to D65 by Bradford). Between the two: below 10.
+    brown     hue angle of the mean a*b* within 40–80°. The browns of those charts, 5YR to
+              10YR at chroma 2, lie at 54–72°; the interval allows half a hue page either side.
+    belly     the belly's mean L* at least 10 above the back's: "a lighter underbelly", one
+              Munsell value step (≈ 10 L*) or more.
+  strong sun, highlights (the brightest 10 % of the dorsal pixels)
+    saturated mean C*ab > 20, the cut this script has always used for a saturated pixel.
+    hues      the saturated highlight pixels (C* > 20) fill more than 6 of the 12 hue bins of
+              30° (a bin counts when it holds > 2 % of them): most of the hue circle.
+
+Also printed, not judged: the colour spread of the dorsal skin, the r.m.s. distance of its
+pixels' a*b* from their mean (how far from uniform the back is: bands and speckle raise it).
+
     python3 tools/two_lights.py                    # 480×270, 128 spp
     python3 tools/two_lights.py --res 320x180 --spp 32 --keep out/   # also keeps the EXRs/PNGs
+    python3 tools/two_lights.py --res 240x135 --spp 32 -D base_ior=1.45   # explore a parameter
+
+Changes on 2026-12-02 (issue 14): the criteria and their PASS/FAIL lines, the colour spread, and
+-D; the mask, the white reference (exposure) and the Lab conversion are as before. Note that Lab
+is taken against D65 scaled to the soil's white luminance, with no white balance: the low sun
+is warm (a white surface under it has b* ≈ +18), which pulls the sun highlights' hues towards
+orange and yellow.
+
+-D NAME=VALUE sets a scene parameter for both renders (the lights' own settings come after it
+and win); the figures the README quotes come from the script without -D.
 
 Needs numpy and a built `target/release/ophis` (or --ophis PATH).
 """
@@ -126,8 +158,10 @@ def report(name, planes, legend):
     Lb, _, _ = lab(rgb[belly], yn)
     print(f"\n{name}")
     print(f"  white reference Y_n = {yn:.4g} (from {soil.sum()} soil pixels)")
+    hue_mean = np.degrees(np.arctan2(b.mean(), a.mean())) % 360
+    spread = float(np.sqrt(np.mean((a - a.mean()) ** 2 + (b - b.mean()) ** 2)))
     print(f"  dorsal skin: {dorsal.sum()} pixels, mean L* {L.mean():.1f}, mean C*ab {C.mean():.1f}, "
-          f"hue of the mean a*b* {np.degrees(np.arctan2(b.mean(), a.mean())) % 360:.0f}°")
+          f"hue of the mean a*b* {hue_mean:.0f}°, colour spread (r.m.s. Δa*b*) {spread:.1f}")
     print(f"  belly: {belly.sum()} pixels, mean L* {Lb.mean():.1f}" if belly.sum() else "  belly: not in view")
     bins = " ".join(f"{lo:>3}" for lo in range(0, 360, 30))
     print(f"  hue bins (°)              {bins}")
@@ -139,8 +173,22 @@ def report(name, planes, legend):
     print(f"  highlights, C* > 20 ({hs.sum():>5}) " + " ".join(f"{c:>3}" for c in hue_histogram(h[hs])))
     print(f"  highlights ({top.sum()} px): mean L* {L[top].mean():.1f}, mean C*ab {C[top].mean():.1f}, "
           f"{hs.sum()} saturated (C* > 20), whose hues fill {occupied} of 12 bins (> 2 % each)")
-    return dict(L=L.mean(), C=C.mean(), Lbelly=Lb.mean() if belly.sum() else float("nan"),
-                Ctop=C[top].mean(), bins=occupied)
+    return dict(L=L.mean(), C=C.mean(), hue=hue_mean, spread=spread,
+                Lbelly=Lb.mean() if belly.sum() else float("nan"), Ctop=C[top].mean(), bins=occupied)
+
+
+def verdicts(d, s):
+    """The criteria of the module header: (light, name, measured, threshold, passed)."""
+    belly = d["Lbelly"] - d["L"]
+    return [
+        ("dull", "plain: dorsal mean C*ab", f"{d['C']:.1f}", "< 10", d["C"] < 10),
+        ("dull", "brown: hue of the dorsal mean a*b*", f"{d['hue']:.0f}°", "40–80°",
+         40 <= d["hue"] <= 80),
+        ("dull", "belly lighter: belly L* − dorsal L*", f"{belly:.1f}", ">= 10", belly >= 10),
+        ("sun", "saturated: highlight mean C*ab", f"{s['Ctop']:.1f}", "> 20", s["Ctop"] > 20),
+        ("sun", "hues: bins of 30° filled by saturated highlights", f"{s['bins']} of 12", "> 6",
+         s["bins"] > 6),
+    ]
 
 
 def main():
@@ -151,6 +199,8 @@ def main():
     ap.add_argument("--keep", help="folder to keep the renders in (EXR with AOVs, PNG)")
     ap.add_argument("--scene", default=os.path.join(ROOT, "scenes", "xenopeltis.xml"),
                     help="a variant of the flagship to measure instead (same parts and -D names)")
+    ap.add_argument("-D", dest="defines", action="append", default=[], metavar="NAME=VALUE",
+                    help="a scene parameter for both renders (e.g. -D base_ior=1.45), to explore")
     args = ap.parse_args()
     w, h = args.res.split("x")
     xml = with_aovs(open(args.scene, encoding="utf-8").read())
@@ -162,7 +212,7 @@ def main():
     for i, (name, defines) in enumerate(LIGHTS.items()):
         out = os.path.join(out_dir, ["dull", "sun"][i])
         cmd = [args.ophis, "render", scene, "-q", "--spp", str(args.spp), f"-Dwidth={w}",
-               f"-Dheight={h}", *VIEW, *defines, "-o", out]
+               f"-Dheight={h}", *VIEW, *[f"-D{d}" for d in args.defines], *defines, "-o", out]
         print(" ".join(cmd), flush=True)
         subprocess.run(cmd, check=True)
         planes, text = read_exr(out + ".exr")
@@ -174,6 +224,12 @@ def main():
     print(f"  highlight mean chroma     {d['Ctop']:.1f} vs {s['Ctop']:.1f}")
     print(f"  highlight hue bins used   {d['bins']} vs {s['bins']} of 12")
     print(f"  belly minus dorsal L*     {d['Lbelly'] - d['L']:.1f} vs {s['Lbelly'] - s['L']:.1f}")
+    print(f"  dorsal colour spread      {d['spread']:.1f} vs {s['spread']:.1f}")
+    print("\ncriteria (thresholds and their reasons: the header of tools/two_lights.py)")
+    checks = verdicts(d, s)
+    for light, name, value, threshold, ok in checks:
+        print(f"  {'PASS' if ok else 'FAIL'}  {light:4}  {name:50} {value:>8}  (needs {threshold})")
+    print(f"  {'PASS' if all(c[-1] for c in checks) else 'FAIL'}  overall")
     if args.keep:
         print(f"renders kept in {out_dir}")
 

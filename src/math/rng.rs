@@ -25,6 +25,18 @@ impl Pcg32 {
         r
     }
 
+    /// The generator with this raw state and increment (as [`Pcg32::raw`] returns them).
+    #[inline]
+    pub(crate) fn from_raw(state: u64, inc: u64) -> Pcg32 {
+        Pcg32 { state, inc }
+    }
+
+    /// The raw state and increment.
+    #[inline]
+    pub(crate) fn raw(&self) -> (u64, u64) {
+        (self.state, self.inc)
+    }
+
     /// Next 32 random bits.
     #[inline]
     pub fn next_u32(&mut self) -> u32 {

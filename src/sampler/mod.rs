@@ -45,6 +45,27 @@ impl SamplerState {
         }
     }
 
+    /// The state as (PCG state, PCG increment, pixel seed, sample index, dimension), the form
+    /// the wavefront integrator stores per path.
+    #[inline]
+    pub(crate) fn parts(&self) -> (u64, u64, u32, u32, u32) {
+        let (state, inc) = self.rng.raw();
+        (state, inc, self.pixel_seed, self.index, self.dim)
+    }
+
+    /// The state from [`SamplerState::parts`].
+    #[inline]
+    pub(crate) fn from_parts(
+        (state, inc, pixel_seed, index, dim): (u64, u64, u32, u32, u32),
+    ) -> SamplerState {
+        SamplerState {
+            rng: Pcg32::from_raw(state, inc),
+            pixel_seed,
+            index,
+            dim,
+        }
+    }
+
     /// Next 1D sample in [0, 1) of the sequence `kind`.
     #[inline]
     pub fn next_1d(&mut self, kind: SamplerKind) -> f32 {

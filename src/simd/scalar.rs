@@ -203,4 +203,14 @@ impl Float for f32 {
     fn from_fn(mut f: impl FnMut(usize) -> f32) -> f32 {
         f(0)
     }
+    #[inline(always)]
+    fn pcg_next_f32(state: &mut [u64], inc: &[u64], m: bool) -> f32 {
+        if !m {
+            return 0.0;
+        }
+        let mut r = crate::math::Pcg32::from_raw(state[0], inc[0]);
+        let v = r.next_f32();
+        state[0] = r.raw().0;
+        v
+    }
 }

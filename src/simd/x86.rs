@@ -335,4 +335,64 @@ impl Float for F8 {
         let a: [f32; 8] = std::array::from_fn(f);
         F8::load(&a)
     }
+    #[inline(always)]
+    fn pcg_next_f32(state: &mut [u64], inc: &[u64], m: M8) -> F8 {
+        assert!(state.len() >= 8 && inc.len() >= 8);
+        unsafe {
+            // Two registers of four 64-bit states.
+            let s0 = _mm256_loadu_si256(state.as_ptr() as *const __m256i);
+            let s1 = _mm256_loadu_si256(state.as_ptr().add(4) as *const __m256i);
+            let i0 = _mm256_loadu_si256(inc.as_ptr() as *const __m256i);
+            let i1 = _mm256_loadu_si256(inc.as_ptr().add(4) as *const __m256i);
+            let mask = _mm256_castps_si256(m.0);
+            let m0 = _mm256_cvtepi32_epi64(_mm256_castsi256_si128(mask));
+            let m1 = _mm256_cvtepi32_epi64(_mm256_extracti128_si256::<1>(mask));
+            let (n0, x0) = pcg_step4(s0, i0);
+            let (n1, x1) = pcg_step4(s1, i1);
+            _mm256_storeu_si256(
+                state.as_mut_ptr() as *mut __m256i,
+                _mm256_blendv_epi8(s0, n0, m0),
+            );
+            _mm256_storeu_si256(
+                state.as_mut_ptr().add(4) as *mut __m256i,
+                _mm256_blendv_epi8(s1, n1, m1),
+            );
+            // The outputs sit in the low halves of the 64-bit lanes: gather them in order.
+            let even = _mm256_setr_epi32(0, 2, 4, 6, 0, 2, 4, 6);
+            let lo = _mm256_permutevar8x32_epi32(x0, even);
+            let hi = _mm256_permutevar8x32_epi32(x1, even);
+            let bits = _mm256_blend_epi32::<0b1111_0000>(lo, hi);
+            // 24 high bits, exactly representable: (u >> 8) · 2⁻²⁴.
+            let v = _mm256_mul_ps(
+                _mm256_cvtepi32_ps(_mm256_srli_epi32::<8>(bits)),
+                _mm256_set1_ps(1.0 / 16_777_216.0),
+            );
+            F8(_mm256_and_ps(v, m.0))
+        }
+    }
+}
+
+/// One PCG32 step of four generators: the new states and the outputs (XSH-RR of the old
+/// states, in the low 32 bits of each lane).
+#[inline(always)]
+unsafe fn pcg_step4(s: __m256i, inc: __m256i) -> (__m256i, __m256i) {
+    const MULT: u64 = 0x5851_f42d_4c95_7f2d;
+    // s · MULT mod 2⁶⁴ from 32-bit halves: lo·lo + ((hi·lo + lo·hi) << 32).
+    let m = _mm256_set1_epi64x(MULT as i64);
+    let m_hi = _mm256_set1_epi64x((MULT >> 32) as i64);
+    let lo = _mm256_mul_epu32(s, m);
+    let cross = _mm256_add_epi64(
+        _mm256_mul_epu32(_mm256_srli_epi64::<32>(s), m),
+        _mm256_mul_epu32(s, m_hi),
+    );
+    let next = _mm256_add_epi64(_mm256_add_epi64(lo, _mm256_slli_epi64::<32>(cross)), inc);
+    let xorshifted = _mm256_srli_epi64::<27>(_mm256_xor_si256(_mm256_srli_epi64::<18>(s), s));
+    let rot = _mm256_srli_epi64::<59>(s);
+    // Rotate the low 32 bits right by `rot` (a shift by 32 gives 0, as a rotation by 0 needs).
+    let left = _mm256_sub_epi32(_mm256_set1_epi64x(32), rot);
+    let out = _mm256_or_si256(
+        _mm256_srlv_epi32(xorshifted, rot),
+        _mm256_sllv_epi32(xorshifted, left),
+    );
+    (next, out)
 }

@@ -62,11 +62,18 @@
 //! Limits: the footprint estimate ignores anisotropy beyond the larger axis; cells are defined in
 //! UV space, so a parametrisation that stretches UV stretches the scales.
 
-use super::head_shields::{self, HEAD_CELLS};
+use super::head_shields::HEAD_CELLS;
 use super::{FloatTexture, NormalSource, SpectrumTexture, Texture, Want};
 use crate::math::Vec2;
 use crate::plugin::{declare, Args, Check, Param, SceneError};
-use std::sync::{Arc, OnceLock};
+use std::sync::Arc;
+
+mod lattice;
+mod relief;
+
+pub(crate) use lattice::{mix, unit};
+#[cfg(test)]
+use relief::{CELL_RADIUS, FADE_LEVEL};
 
 /// How cells are laid out (see the module header).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -90,12 +97,6 @@ impl Layout {
             _ => return None,
         })
     }
-}
-
-/// The head layout's seeds in map coordinates, computed once.
-fn head_seeds() -> &'static [Vec2] {
-    static SEEDS: OnceLock<Vec<Vec2>> = OnceLock::new();
-    SEEDS.get_or_init(head_shields::seeds)
 }
 
 /// The parameters.
@@ -230,107 +231,6 @@ pub struct ScaleSample {
     pub groove: f32,
 }
 
-/// Circumradius of the regular cell, the unit of the dome profile.
-const CELL_RADIUS: f32 = 0.65;
-/// Mean height of the relief, what it fades to at a distance (measured over regular cells with
-/// the default dome; exact values matter little since only the relief's slope is seen).
-const FADE_LEVEL: f32 = 0.6;
-
-/// A 32-bit integer hash with good avalanche (xor-shift-multiply rounds).
-#[inline]
-fn mix(mut x: u32) -> u32 {
-    x ^= x >> 16;
-    x = x.wrapping_mul(0x7feb_352d);
-    x ^= x >> 15;
-    x = x.wrapping_mul(0x846c_a68b);
-    x ^= x >> 16;
-    x
-}
-
-/// Uniform [0, 1) from the top 24 bits.
-#[inline]
-fn unit(h: u32) -> f32 {
-    (h >> 8) as f32 * (1.0 / 16_777_216.0)
-}
-
-/// Polynomial smooth minimum: min(a, b) with the corner rounded over a width `k`.
-#[inline]
-fn smooth_min(a: f32, b: f32, k: f32) -> f32 {
-    let m = a.min(b);
-    if k <= 0.0 || !m.is_finite() {
-        return m;
-    }
-    let h = (k - (a - b).abs()).max(0.0) / k;
-    m - 0.25 * k * h * h
-}
-
-/// The weights (∂/∂a, ∂/∂b) of [`smooth_min`]: the smaller argument counts 1 − h/2, the other
-/// h/2, with h = max(k − |a − b|, 0)/k.
-#[inline]
-fn smooth_min_weights(a: f32, b: f32, k: f32) -> (f32, f32) {
-    let h = if k > 0.0 && a.is_finite() && b.is_finite() {
-        (k - (a - b).abs()).max(0.0) / k
-    } else {
-        0.0
-    };
-    if a <= b {
-        (1.0 - 0.5 * h, 0.5 * h)
-    } else {
-        (0.5 * h, 1.0 - 0.5 * h)
-    }
-}
-
-/// smoothstep and its derivative with respect to x.
-#[inline]
-fn smoothstep_d(e0: f32, e1: f32, x: f32) -> (f32, f32) {
-    if e1 <= e0 {
-        return (if x < e0 { 0.0 } else { 1.0 }, 0.0);
-    }
-    let t = (x - e0) / (e1 - e0);
-    if !(0.0..=1.0).contains(&t) {
-        return (t.clamp(0.0, 1.0), 0.0);
-    }
-    (t * t * (3.0 - 2.0 * t), 6.0 * t * (1.0 - t) / (e1 - e0))
-}
-
-#[inline]
-fn smoothstep(e0: f32, e1: f32, x: f32) -> f32 {
-    if e1 <= e0 {
-        return if x < e0 { 0.0 } else { 1.0 };
-    }
-    let t = ((x - e0) / (e1 - e0)).clamp(0.0, 1.0);
-    t * t * (3.0 - 2.0 * t)
-}
-
-/// Per-lookup constants of the lattice (see [`Scales::lattice`]).
-#[derive(Clone, Copy)]
-struct Lattice {
-    pu: i32,
-    pv: i32,
-    seed: u32,
-}
-
-/// A lattice index wrapped into [0, period) (unchanged for period 0); the division is skipped
-/// when it is already in range.
-#[inline]
-fn wrap(i: i32, period: i32) -> i32 {
-    if period > 0 && !(0..period).contains(&i) {
-        i.rem_euclid(period)
-    } else {
-        i
-    }
-}
-
-/// The period of an integer cell count (wrapping of lattice indices), or 0 for none.
-fn period(scale: f32) -> i32 {
-    let r = scale.round();
-    if (scale - r).abs() < 1e-3 && (1.0..1e6).contains(&r) {
-        r as i32
-    } else {
-        0
-    }
-}
-
 impl Scales {
     /// How many cells a UV footprint (widths along u and v) spans, along its larger axis.
     #[inline]
@@ -341,7 +241,7 @@ impl Scales {
 
     /// Cell-space units per UV unit along u and v.
     #[inline]
-    fn cells_per_uv(&self) -> Vec2 {
+    pub fn cells_per_uv(&self) -> Vec2 {
         let k = Vec2::new(self.scale_u, self.scale_v);
         if self.layout == Layout::Head {
             k * HEAD_CELLS
@@ -354,96 +254,6 @@ impl Scales {
     #[inline]
     pub(crate) fn to_cell_space(&self, uv: Vec2) -> Vec2 {
         uv * self.cells_per_uv()
-    }
-
-    /// What every lookup needs once: the periods that wrap lattice indices (0 for none; the
-    /// head's shields do not wrap) and the seed's hash.
-    #[inline]
-    fn lattice(&self) -> Lattice {
-        let (pu, pv) = match self.layout {
-            Layout::Head => (0, 0),
-            _ => (period(self.scale_u), period(self.scale_v)),
-        };
-        Lattice {
-            pu,
-            pv,
-            seed: mix(self.seed.wrapping_add(0x9e37_79b9)),
-        }
-    }
-
-    /// The hash of row j, shared by the cells of the row.
-    #[inline]
-    fn row_hash(&self, j: i32, lat: Lattice) -> u32 {
-        mix(wrap(j, lat.pv) as u32 ^ lat.seed)
-    }
-
-    /// Centre of lattice cell (i, j) in cell space (unwrapped, near the query point), its hash
-    /// and its wrapped index; `row` is [`Scales::row_hash`] of j.
-    #[inline]
-    fn center(&self, i: i32, j: i32, row: u32, lat: Lattice) -> (Vec2, u32, (i32, i32)) {
-        if self.layout == Layout::Head {
-            // i indexes the seeds; unused indices lie far away and never win.
-            let h = mix(i as u32 ^ row);
-            let c = match head_seeds().get(i as usize) {
-                Some(s) if i >= 0 => self.to_cell_space(*s),
-                _ => Vec2::splat(1e6),
-            };
-            return (c, h, (i, 0));
-        }
-        let (wi, wj) = (wrap(i, lat.pu), wrap(j, lat.pv));
-        let h = mix(wi as u32 ^ row);
-        let mut jx = unit(mix(h ^ 0x68e3_1da4)) - 0.5;
-        let jy = unit(mix(h ^ 0xb529_7a4d)) - 0.5;
-        let mut shift = if j.rem_euclid(2) == 1 { 0.5 } else { 0.0 };
-        if self.layout == Layout::Rows {
-            // Plates stay aligned across the row (centred on half-integers, so that with
-            // `scale_u` = 1 a plate spans u ∈ [0, 1]): only their length varies.
-            (jx, shift) = (0.0, 0.5);
-        }
-        let c = Vec2::new(i as f32 + shift, j as f32) + self.irregularity * Vec2::new(jx, jy);
-        (c, h, (wi, wj))
-    }
-
-    /// Calls `f` with every cell that may be nearest to lattice cell (ci, cj) or border it. The
-    /// unjittered lattice's cells reach 0.71 from their centres, so with jitter of at most
-    /// `irregularity`/2 per axis the nearest centre lies within 0.71 + 1.42·`irregularity`:
-    /// one row and column either side while `irregularity` ≤ 0.35 (where the Voronoi
-    /// neighbours are also the lattice's), two beyond that. The head's few seeds are all
-    /// candidates.
-    #[inline]
-    fn candidates(&self, ci: i32, cj: i32, lat: Lattice, mut f: impl FnMut(i32, i32, u32)) {
-        if self.layout == Layout::Head {
-            let row = self.row_hash(0, lat);
-            for i in 0..head_seeds().len() as i32 {
-                f(i, 0, row);
-            }
-            return;
-        }
-        let reach = if self.irregularity <= 0.35 { 1 } else { 2 };
-        for j in cj - reach..=cj + reach {
-            let row = self.row_hash(j, lat);
-            for i in ci - reach..=ci + reach {
-                f(i, j, row);
-            }
-        }
-    }
-
-    /// The cell under a UV point and its hash (the nearest centre only: what the per-cell
-    /// values and tilts need, at a fraction of [`Scales::sample`]'s cost).
-    #[inline]
-    pub fn nearest(&self, uv: Vec2) -> ((i32, i32), u32) {
-        let p = self.to_cell_space(uv);
-        let lat = self.lattice();
-        let (j0, i0) = (p.y.round() as i32, p.x.floor() as i32);
-        let mut best = (f32::INFINITY, 0u32, (0, 0));
-        self.candidates(i0, j0, lat, |i, j, row| {
-            let (c, h, cell) = self.center(i, j, row, lat);
-            let d2 = (p - c).length_squared();
-            if d2 < best.0 {
-                best = (d2, h, cell);
-            }
-        });
-        (best.2, best.1)
     }
 
     /// The random id in [0, 1) of the cell under a UV point.
@@ -460,93 +270,6 @@ impl Scales {
     /// The pattern at a UV point seen through a footprint `width` cells wide.
     pub(crate) fn sample_filtered(&self, uv: Vec2, width: f32) -> ScaleSample {
         self.evaluate(uv, width).0
-    }
-
-    /// The pattern and the gradient of its height with respect to cell space, in one pass: the
-    /// relief is a product of smooth functions of the distances to the cell's centre and to
-    /// its two nearest edges, each differentiated in closed form.
-    fn evaluate(&self, uv: Vec2, width: f32) -> (ScaleSample, Vec2) {
-        let p = self.to_cell_space(uv);
-        let lat = self.lattice();
-        let (j0, i0) = (p.y.round() as i32, p.x.floor() as i32);
-        let mut best = (f32::INFINITY, Vec2::ZERO, 0u32, (0, 0), (0, 0));
-        self.candidates(i0, j0, lat, |i, j, row| {
-            let (c, h, cell) = self.center(i, j, row, lat);
-            let d2 = (p - c).length_squared();
-            if d2 < best.0 {
-                best = (d2, c, h, cell, (i, j));
-            }
-        });
-        let (_, c0, h0, cell, (bi, bj)) = best;
-        // Distance to the cell edge: the nearest bisector with a neighbour, with the corners
-        // rounded (a smooth minimum) so that the groove has no creases for the bump map to show.
-        // Each bisector distance (m − p)·n is linear in p, with gradient −n.
-        let round = 0.5 * self.gap;
-        let (mut e1, mut e2) = (f32::INFINITY, f32::INFINITY);
-        let (mut n1, mut n2) = (Vec2::ZERO, Vec2::ZERO);
-        self.candidates(bi, bj, lat, |i, j, row| {
-            if (i, j) == (bi, bj) {
-                return;
-            }
-            let (c, _, _) = self.center(i, j, row, lat);
-            let d = c - c0;
-            let len = d.length();
-            if len > 1e-6 {
-                let n = d / len;
-                let e = (0.5 * (c0 + c) - p).dot(n);
-                if e < e1 {
-                    (e2, n2) = (e1, n1);
-                    (e1, n1) = (e, n);
-                } else if e < e2 {
-                    (e2, n2) = (e, n);
-                }
-            }
-        });
-        // Only the two nearest edges meet at a corner of the cell; taking just those keeps the
-        // result independent of the order the neighbours were visited in.
-        let raw = smooth_min(e1, e2, round);
-        let edge = raw.max(0.0);
-        let d_edge = if raw > 0.0 {
-            let (w1, w2) = smooth_min_weights(e1, e2, round);
-            -(n1 * w1 + n2 * w2)
-        } else {
-            Vec2::ZERO
-        };
-        let gap = self.gap.max((0.25 * width).min(0.5));
-        let (shoulder, d_shoulder) = smoothstep_d(0.0, gap, edge);
-        let q = (p - c0) / CELL_RADIUS;
-        // x(2 − x) and r(3 − r²)/2 saturate with zero slope, so the relief stays C¹.
-        let q2 = q.length_squared();
-        let x = q2.min(1.0);
-        let top = 1.0 - self.dome * x * (2.0 - x);
-        let d_top = if q2 < 1.0 {
-            q * (-self.dome * (2.0 - 2.0 * x) * 2.0 / CELL_RADIUS)
-        } else {
-            Vec2::ZERO
-        };
-        let r0 = q.dot(self.overlap_dir);
-        let rc = r0.clamp(-1.0, 1.0);
-        let r = 0.5 * rc * (3.0 - rc * rc);
-        let tile = 1.0 - self.overlap * 0.5 * (1.0 - r);
-        let d_tile = if r0.abs() < 1.0 {
-            self.overlap_dir * (self.overlap * 0.75 * (1.0 - rc * rc) / CELL_RADIUS)
-        } else {
-            Vec2::ZERO
-        };
-        let relief = shoulder * top * tile;
-        let d_relief = d_edge * (d_shoulder * top * tile)
-            + d_top * (shoulder * tile)
-            + d_tile * (shoulder * top);
-        let fade = smoothstep(0.5, 2.0, width);
-        let sample = ScaleSample {
-            height: relief + fade * (FADE_LEVEL - relief),
-            edge_distance: edge,
-            id: unit(h0),
-            cell,
-            center: c0,
-            groove: (1.0 - shoulder) * (1.0 - fade),
-        };
-        (sample, d_relief * (1.0 - fade))
     }
 
     /// Height at a UV point (footprint `width` in cells).

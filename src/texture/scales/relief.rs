@@ -1,0 +1,151 @@
+//! The relief of `scales`: the height of a cell — groove shoulder, domed top, roof-tile rise
+//! — and its gradient in closed form, faded to a mean where cells shrink below the footprint
+//! (see the header of `scales.rs`).
+
+use super::lattice::unit;
+use super::{ScaleSample, Scales};
+use crate::math::Vec2;
+
+/// Circumradius of the regular cell, the unit of the dome profile.
+pub(super) const CELL_RADIUS: f32 = 0.65;
+/// Mean height of the relief, what it fades to at a distance (measured over regular cells with
+/// the default dome; exact values matter little since only the relief's slope is seen).
+pub(super) const FADE_LEVEL: f32 = 0.6;
+
+/// Polynomial smooth minimum: min(a, b) with the corner rounded over a width `k`.
+#[inline]
+fn smooth_min(a: f32, b: f32, k: f32) -> f32 {
+    let m = a.min(b);
+    if k <= 0.0 || !m.is_finite() {
+        return m;
+    }
+    let h = (k - (a - b).abs()).max(0.0) / k;
+    m - 0.25 * k * h * h
+}
+
+/// The weights (∂/∂a, ∂/∂b) of [`smooth_min`]: the smaller argument counts 1 − h/2, the other
+/// h/2, with h = max(k − |a − b|, 0)/k.
+#[inline]
+fn smooth_min_weights(a: f32, b: f32, k: f32) -> (f32, f32) {
+    let h = if k > 0.0 && a.is_finite() && b.is_finite() {
+        (k - (a - b).abs()).max(0.0) / k
+    } else {
+        0.0
+    };
+    if a <= b {
+        (1.0 - 0.5 * h, 0.5 * h)
+    } else {
+        (0.5 * h, 1.0 - 0.5 * h)
+    }
+}
+
+/// smoothstep and its derivative with respect to x.
+#[inline]
+fn smoothstep_d(e0: f32, e1: f32, x: f32) -> (f32, f32) {
+    if e1 <= e0 {
+        return (if x < e0 { 0.0 } else { 1.0 }, 0.0);
+    }
+    let t = (x - e0) / (e1 - e0);
+    if !(0.0..=1.0).contains(&t) {
+        return (t.clamp(0.0, 1.0), 0.0);
+    }
+    (t * t * (3.0 - 2.0 * t), 6.0 * t * (1.0 - t) / (e1 - e0))
+}
+
+#[inline]
+fn smoothstep(e0: f32, e1: f32, x: f32) -> f32 {
+    if e1 <= e0 {
+        return if x < e0 { 0.0 } else { 1.0 };
+    }
+    let t = ((x - e0) / (e1 - e0)).clamp(0.0, 1.0);
+    t * t * (3.0 - 2.0 * t)
+}
+
+impl Scales {
+    /// The pattern and the gradient of its height with respect to cell space, in one pass: the
+    /// relief is a product of smooth functions of the distances to the cell's centre and to
+    /// its two nearest edges, each differentiated in closed form.
+    pub(super) fn evaluate(&self, uv: Vec2, width: f32) -> (ScaleSample, Vec2) {
+        let p = self.to_cell_space(uv);
+        let lat = self.lattice();
+        let (j0, i0) = (p.y.round() as i32, p.x.floor() as i32);
+        let mut best = (f32::INFINITY, Vec2::ZERO, 0u32, (0, 0), (0, 0));
+        self.candidates(i0, j0, lat, |i, j, row| {
+            let (c, h, cell) = self.center(i, j, row, lat);
+            let d2 = (p - c).length_squared();
+            if d2 < best.0 {
+                best = (d2, c, h, cell, (i, j));
+            }
+        });
+        let (_, c0, h0, cell, (bi, bj)) = best;
+        // Distance to the cell edge: the nearest bisector with a neighbour, with the corners
+        // rounded (a smooth minimum) so that the groove has no creases for the bump map to show.
+        // Each bisector distance (m − p)·n is linear in p, with gradient −n.
+        let round = 0.5 * self.gap;
+        let (mut e1, mut e2) = (f32::INFINITY, f32::INFINITY);
+        let (mut n1, mut n2) = (Vec2::ZERO, Vec2::ZERO);
+        self.candidates(bi, bj, lat, |i, j, row| {
+            if (i, j) == (bi, bj) {
+                return;
+            }
+            let (c, _, _) = self.center(i, j, row, lat);
+            let d = c - c0;
+            let len = d.length();
+            if len > 1e-6 {
+                let n = d / len;
+                let e = (0.5 * (c0 + c) - p).dot(n);
+                if e < e1 {
+                    (e2, n2) = (e1, n1);
+                    (e1, n1) = (e, n);
+                } else if e < e2 {
+                    (e2, n2) = (e, n);
+                }
+            }
+        });
+        // Only the two nearest edges meet at a corner of the cell; taking just those keeps the
+        // result independent of the order the neighbours were visited in.
+        let raw = smooth_min(e1, e2, round);
+        let edge = raw.max(0.0);
+        let d_edge = if raw > 0.0 {
+            let (w1, w2) = smooth_min_weights(e1, e2, round);
+            -(n1 * w1 + n2 * w2)
+        } else {
+            Vec2::ZERO
+        };
+        let gap = self.gap.max((0.25 * width).min(0.5));
+        let (shoulder, d_shoulder) = smoothstep_d(0.0, gap, edge);
+        let q = (p - c0) / CELL_RADIUS;
+        // x(2 − x) and r(3 − r²)/2 saturate with zero slope, so the relief stays C¹.
+        let q2 = q.length_squared();
+        let x = q2.min(1.0);
+        let top = 1.0 - self.dome * x * (2.0 - x);
+        let d_top = if q2 < 1.0 {
+            q * (-self.dome * (2.0 - 2.0 * x) * 2.0 / CELL_RADIUS)
+        } else {
+            Vec2::ZERO
+        };
+        let r0 = q.dot(self.overlap_dir);
+        let rc = r0.clamp(-1.0, 1.0);
+        let r = 0.5 * rc * (3.0 - rc * rc);
+        let tile = 1.0 - self.overlap * 0.5 * (1.0 - r);
+        let d_tile = if r0.abs() < 1.0 {
+            self.overlap_dir * (self.overlap * 0.75 * (1.0 - rc * rc) / CELL_RADIUS)
+        } else {
+            Vec2::ZERO
+        };
+        let relief = shoulder * top * tile;
+        let d_relief = d_edge * (d_shoulder * top * tile)
+            + d_top * (shoulder * tile)
+            + d_tile * (shoulder * top);
+        let fade = smoothstep(0.5, 2.0, width);
+        let sample = ScaleSample {
+            height: relief + fade * (FADE_LEVEL - relief),
+            edge_distance: edge,
+            id: unit(h0),
+            cell,
+            center: c0,
+            groove: (1.0 - shoulder) * (1.0 - fade),
+        };
+        (sample, d_relief * (1.0 - fade))
+    }
+}
