@@ -237,6 +237,13 @@ impl<'a> Args<'a> {
         self.given(name, self.int_opt(name)?)
     }
 
+    /// An integer declared by [`Param::u32`](super::Param::u32) (or in a narrower range).
+    pub fn u32(&self, name: &str) -> Result<u32, SceneError> {
+        let v = self.int(name)?;
+        u32::try_from(v)
+            .map_err(|_| self.error(name, format!("must be between 0 and {}, got {v}", u32::MAX)))
+    }
+
     /// A boolean (declared default when absent).
     pub fn bool(&self, name: &str) -> Result<bool, SceneError> {
         let p = self.param(name)?;

@@ -203,6 +203,11 @@ impl Param {
     pub const fn int(name: &'static str, default: i64) -> Param {
         Param::new(name, Ty::Integer, DefaultValue::Int(default))
     }
+    /// An integer between 0 and 2³² − 1 (a seed, an index), with a default; read by
+    /// [`Args::u32`](super::Args::u32).
+    pub const fn u32(name: &'static str, default: u32) -> Param {
+        Param::int(name, default as i64).check(Check::Range(0.0, u32::MAX as f64))
+    }
     /// A boolean with a default.
     pub const fn bool(name: &'static str, default: bool) -> Param {
         Param::new(name, Ty::Boolean, DefaultValue::Bool(default))

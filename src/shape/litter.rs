@@ -66,15 +66,13 @@ declare!(PLUGIN: super::Parts, Transform = Shape "litter" []
             .check(Check::ClosedOpen(0.0, 1e6))
             .unit("world units")
             .doc("no leaf centred within this of the origin (room for a coiled snake)"),
-        Param::int("seed", 0)
-            .check(Check::Range(0.0, 4294967295.0))
-            .doc("changes the layout"),
+        Param::u32("seed", 0).doc("changes the layout"),
     ], super::PLACEMENT] load);
 
 fn load(a: &mut Args, parent: Transform) -> Result<super::Parts, SceneError> {
     let (to_world, flip) = super::placement(a, &parent)?;
     let p = LitterParams {
-        count: a.int("count")? as u32,
+        count: a.u32("count")?,
         size: a.float("size")?,
         size_spread: a.float("size_spread")?,
         width: a.float("width")?,
@@ -83,7 +81,7 @@ fn load(a: &mut Args, parent: Transform) -> Result<super::Parts, SceneError> {
         lift: a.float("lift")?,
         extent: a.float("extent")?,
         clear: a.float("clear")?,
-        seed: a.int("seed")? as u32,
+        seed: a.u32("seed")?,
     };
     let g = litter(&p);
     let mesh = super::TriangleMesh::new(

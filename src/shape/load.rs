@@ -231,9 +231,7 @@ pub(crate) fn mesh_file(
         MeshFile::Obj => super::obj::read_obj(&path),
         MeshFile::Ply => super::ply::read_ply(&path),
         // Mesh `shape_index` of the file.
-        MeshFile::Serialized => {
-            super::serialized::read_serialized(&path, a.int("shape_index")? as u32)
-        }
+        MeshFile::Serialized => super::serialized::read_serialized(&path, a.u32("shape_index")?),
     };
     let mesh = data.and_then(|d| TriangleMesh::from_data(d, &path, &to_world, &opts));
     let mesh = match mesh {

@@ -200,8 +200,8 @@ fn load(a: &mut Args, parent: Transform) -> Result<super::Parts, SceneError> {
         roll: a.float("roll")?.to_radians(),
         roll_at: a.float("roll_at")?,
         roll_span: a.float("roll_span")?,
-        segments_along: a.int("segments_along")? as u32,
-        segments_around: a.int("segments_around")? as u32,
+        segments_along: a.u32("segments_along")?,
+        segments_around: a.u32("segments_around")?,
     };
     if let Some((s, t)) = self_intersection(&p, 2000) {
         let what = if s == t {

@@ -125,9 +125,7 @@ const PARAMS: &[Param] = &[
         .check(Check::Range(0.0, 45.0))
         .unit("degrees")
         .doc("largest random tilt of a scale's normal"),
-    Param::int("seed", 0)
-        .check(Check::Range(0.0, u32::MAX as f64))
-        .doc("changes the random numbers"),
+    Param::u32("seed", 0).doc("changes the random numbers"),
     Param::string("layout", "hex")
         .check(Check::OneOf(&["hex", "rows", "head"]))
         .doc(
@@ -153,7 +151,7 @@ pub(crate) fn load_cells(a: &Args) -> Result<Scales, SceneError> {
         overlap: a.float("overlap")?,
         overlap_dir: Vec2::new(angle.cos(), angle.sin()),
         tilt: a.float("tilt_degrees")?.to_radians(),
-        seed: a.int("seed")? as u32,
+        seed: a.u32("seed")?,
         // The declaration's check admits only the three names.
         layout: Layout::from_name(&a.string("layout")?).unwrap_or_default(),
     })
