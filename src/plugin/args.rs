@@ -219,6 +219,11 @@ impl<'a> Args<'a> {
         self.given(name, self.float_opt(name)?)
     }
 
+    /// An angle declared by [`Param::angle`](super::Param::angle), in radians.
+    pub fn angle(&self, name: &str) -> Result<f32, SceneError> {
+        Ok(self.float(name)?.to_radians())
+    }
+
     /// An integer, or `None` when absent without a default.
     pub(crate) fn int_opt(&self, name: &str) -> Result<Option<i64>, SceneError> {
         let p = self.param(name)?;
@@ -298,6 +303,21 @@ impl<'a> Args<'a> {
             Some(n) => self.node.props.get_transform(&n, Transform::IDENTITY),
             None => Ok(Transform::IDENTITY),
         }
+    }
+
+    /// A point (a vector is accepted too); the declared default when absent.
+    pub fn point(&self, name: &str) -> Result<Vec3, SceneError> {
+        let p = self.param(name)?;
+        let v = match self.present(p, name)? {
+            Some(n) => self.node.props.get_point_opt(&n)?,
+            None => self
+                .declared(p, name, |d| match d {
+                    DefaultValue::Point(v) => Some(Vec3::from(v)),
+                    _ => None,
+                })?
+                .map(|(v, _)| v),
+        };
+        self.given(name, v)
     }
 
     /// A point (a vector is accepted too), or `None` if absent.

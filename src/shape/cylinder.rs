@@ -35,17 +35,17 @@ use glam::{DVec2, DVec3};
 declare!(PLUGIN: super::Parts, Transform = Shape "cylinder" []
     "analytic cylinder side, open at both ends"
     [&[
-        Param::object_point("p0", "(0, 0, 0)")
+        Param::object_point("p0", [0.0, 0.0, 0.0])
             .doc("start of the axis"),
-        Param::object_point("p1", "(0, 0, 1)")
+        Param::object_point("p1", [0.0, 0.0, 1.0])
             .doc("end of the axis"),
         super::RADIUS,
     ], super::PLACEMENT] load);
 
 fn load(a: &mut Args, parent: Transform) -> Result<super::Parts, SceneError> {
     let (to_world, flip) = super::placement(a, &parent)?;
-    let p0 = a.point_opt("p0")?.unwrap_or(Vec3::ZERO);
-    let p1 = a.point_opt("p1")?.unwrap_or(Vec3::Z);
+    let p0 = a.point("p0")?;
+    let p1 = a.point("p1")?;
     let radius = a.float("radius")?;
     super::one(
         a,

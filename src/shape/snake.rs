@@ -129,8 +129,7 @@ declare!(PLUGIN: super::Parts, Transform = Shape "snake" []
         Param::float("amplitude", 0.45)
             .unit("world units")
             .doc("`s_curve`: sideways swing"),
-        Param::float("phase", 0.0)
-            .unit("degrees")
+        Param::angle("phase", 0.0)
             .doc("`s_curve`: phase at the snout; `coil`: rotation"),
         part("coil_radius", 2.0, 1e3, "of `radius`").doc("`coil`: radius of the innermost turn"),
         part("coil_spacing", 1.12, 1e3, "of 2·`radius`").doc("`coil`: distance between turns"),
@@ -149,9 +148,8 @@ declare!(PLUGIN: super::Parts, Transform = Shape "snake" []
         part("belly_width", 0.22, 0.5, "of perimeter").doc("width of the ventral plates' band"),
         Param::bool("eyes", true).doc("add the eyes"),
         part("eye_size", 0.12, 0.5, "of head half-width").doc("eye radius"),
-        Param::float("roll", 0.0)
+        Param::angle("roll", 0.0)
             .check(Check::Range(-180.0, 180.0))
-            .unit("degrees")
             .doc("turn a stretch of the body about its centreline (shows the belly)"),
         Param::fraction("roll_at", 0.5)
             .unit("of length")
@@ -184,7 +182,7 @@ fn load(a: &mut Args, parent: Transform) -> Result<super::Parts, SceneError> {
         radius: a.float("radius")?,
         waves: a.float("waves")?,
         amplitude: a.float("amplitude")?,
-        phase: a.float("phase")?.to_radians(),
+        phase: a.angle("phase")?,
         coil_radius: a.float("coil_radius")?,
         coil_spacing: a.float("coil_spacing")?,
         head_length: a.float("head_length")?,
@@ -197,7 +195,7 @@ fn load(a: &mut Args, parent: Transform) -> Result<super::Parts, SceneError> {
         belly_width: a.float("belly_width")?,
         eyes: a.bool("eyes")?,
         eye_size: a.float("eye_size")?,
-        roll: a.float("roll")?.to_radians(),
+        roll: a.angle("roll")?,
         roll_at: a.float("roll_at")?,
         roll_span: a.float("roll_span")?,
         segments_along: a.u32("segments_along")?,

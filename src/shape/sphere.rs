@@ -35,14 +35,14 @@ use glam::DVec3;
 declare!(PLUGIN: super::Parts, Transform = Shape "sphere" []
     "analytic sphere"
     [&[
-        Param::object_point("center", "(0, 0, 0)")
+        Param::object_point("center", [0.0, 0.0, 0.0])
             .doc("centre"),
         super::RADIUS,
     ], super::PLACEMENT] load);
 
 fn load(a: &mut Args, parent: Transform) -> Result<super::Parts, SceneError> {
     let (to_world, flip) = super::placement(a, &parent)?;
-    let center = a.point_opt("center")?.unwrap_or(Vec3::ZERO);
+    let center = a.point("center")?;
     let radius = a.float("radius")?;
     super::one(
         a,
