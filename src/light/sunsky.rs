@@ -61,6 +61,20 @@ use crate::plugin::{
     declare, Args, Check, DefaultValue, Param, SceneError, SpectrumKind, Ty, Warning,
 };
 
+/// A field of the local date, between `lo` and `hi`.
+const fn date(name: &'static str, default: i64, lo: i64, hi: i64) -> Param {
+    Param::int(name, default)
+        .check(Check::Range(lo as f64, hi as f64))
+        .doc("local date")
+}
+
+/// A field of the local clock time, from 0 to `hi`.
+const fn clock(name: &'static str, default: f32, hi: f64) -> Param {
+    Param::float(name, default)
+        .check(Check::Range(0.0, hi))
+        .doc("local clock time")
+}
+
 /// Where and when: shared by `sunsky`, `sun` and `sky`.
 const PLACE: &[Param] = &[
     Param::float("turbidity", 3.0)
@@ -81,24 +95,12 @@ const PLACE: &[Param] = &[
         .check(Check::Range(-14.0, 14.0))
         .unit("hours")
         .doc("offset of the local clock from UTC"),
-    Param::int("year", 2010)
-        .check(Check::Range(1000.0, 3000.0))
-        .doc("local date"),
-    Param::int("month", 7)
-        .check(Check::Range(1.0, 12.0))
-        .doc("local date"),
-    Param::int("day", 10)
-        .check(Check::Range(1.0, 31.0))
-        .doc("local date"),
-    Param::float("hour", 15.0)
-        .check(Check::Range(0.0, 24.0))
-        .doc("local clock time"),
-    Param::float("minute", 0.0)
-        .check(Check::Range(0.0, 60.0))
-        .doc("local clock time"),
-    Param::float("second", 0.0)
-        .check(Check::Range(0.0, 60.0))
-        .doc("local clock time"),
+    date("year", 2010, 1000, 3000),
+    date("month", 7, 1, 12),
+    date("day", 10, 1, 31),
+    clock("hour", 15.0, 24.0),
+    clock("minute", 0.0, 60.0),
+    clock("second", 0.0, 60.0),
     Param::new("to_world", Ty::Transform, DefaultValue::None)
         .doc("rotation from the sky's frame (+y up, −z north, +x east) to the world"),
     Param::new(
