@@ -204,6 +204,13 @@ impl Param {
     pub const fn angle(name: &'static str, default: f32) -> Param {
         Param::float(name, default).unit("degrees")
     }
+    /// A float in (0, `hi`], in `unit` (world units, pixels, or a fraction of something: the
+    /// unit says of what), with a default.
+    pub const fn up_to(name: &'static str, default: f32, hi: f64, unit: &'static str) -> Param {
+        Param::float(name, default)
+            .check(Check::OpenClosed(0.0, hi))
+            .unit(unit)
+    }
     /// A fraction in [0, 1], with a default.
     pub const fn fraction(name: &'static str, default: f32) -> Param {
         Param::float(name, default).check(Check::Range(0.0, 1.0))

@@ -48,9 +48,7 @@ declare!(PLUGIN: super::Parts, Transform = Shape "litter" []
             .check(Check::ClosedOpen(0.0, 1.0))
             .unit("of `size`")
             .doc("relative spread of the lengths"),
-        Param::float("width", 0.5)
-            .check(Check::OpenClosed(0.0, 2.0))
-            .unit("of length")
+        Param::up_to("width", 0.5, 2.0, "of length")
             .doc("leaf width"),
         Param::fraction("curl", 0.25)
             .unit("of half-width")

@@ -101,14 +101,8 @@ impl Layout {
 
 /// The parameters.
 const PARAMS: &[Param] = &[
-    Param::float("scale_u", 20.0)
-        .check(Check::OpenClosed(0.0, 1e6))
-        .unit("1/UV")
-        .doc("cells per unit u"),
-    Param::float("scale_v", 20.0)
-        .check(Check::OpenClosed(0.0, 1e6))
-        .unit("1/UV")
-        .doc("rows per unit v"),
+    Param::up_to("scale_u", 20.0, 1e6, "1/UV").doc("cells per unit u"),
+    Param::up_to("scale_v", 20.0, 1e6, "1/UV").doc("rows per unit v"),
     Param::fraction("irregularity", 0.3).doc("0 = regular hexagons … 1 = Voronoi-like jitter"),
     Param::float("gap", 0.08)
         .also(&["line_width"])
