@@ -12,8 +12,11 @@ and the range (min–max) over the repeats of:
   compilation is excluded.
 - process: the whole process, parse + BVH build + render + write (Mitsuba: a fresh Python that
   imports mitsuba, loads, renders once, JIT included, and writes the EXR).
+- render CPU s: the CPU time of all the process's threads over the render (ophis: its summary
+  line; Mitsuba: getrusage around the timed `mi.render`). On a shared machine the wall time
+  depends on what else runs; the CPU time much less, so it measures the work done.
 - Msamples/s from the render time, and ophis ÷ Mitsuba per repeat (> 1: ophis is faster), for
-  render and for process times.
+  render, render CPU and process times.
 
 and each image's mean linear-sRGB colour so that a mismatch between the scenes shows.
 
@@ -56,7 +59,9 @@ def ophis_render(scene, spp, res, defines, out):
         sys.exit("ophis failed:\n" + p.stderr)
     m = re.search(r"spp, ([0-9.]+) s,", p.stderr)
     secs = float(m.group(1)) if m else wall
-    return secs, wall
+    c = re.search(r" s, ([0-9.]+|NaN) CPU s,", p.stderr)
+    cpu = float(c.group(1)) if c else float("nan")
+    return secs, cpu, wall
 
 
 def mean_rgb_exr(path):
@@ -78,12 +83,19 @@ def mitsuba_render(variant, scene, spp, res, defines, out):
     sc = mi.load_file(scene, **params)
     img = mi.render(sc, spp=spp, seed=0)
     np.array(img)
-    t0 = time.time()
+    t0, c0 = time.time(), cpu_seconds()
     img = mi.render(sc, spp=spp, seed=1)
     arr = np.array(img)
-    secs = time.time() - t0
+    secs, cpu = time.time() - t0, cpu_seconds() - c0
     mi.Bitmap(img).write(out)
-    return secs, arr[..., :3].reshape(-1, 3).mean(axis=0)
+    return secs, cpu, arr[..., :3].reshape(-1, 3).mean(axis=0)
+
+
+def cpu_seconds():
+    """CPU seconds of this process so far, all threads (user + system)."""
+    import resource
+    r = resource.getrusage(resource.RUSAGE_SELF)
+    return r.ru_utime + r.ru_stime
 
 
 def mitsuba_process(variant, scene, spp, res, defines, out):
@@ -140,15 +152,16 @@ def main():
     for name in a.scenes.split(","):
         defines = scenes[name]
         scene = os.path.join(ROOT, "scenes", name + ".xml")
-        rows = {"ophis": {"render": [], "process": []}}
+        rows = {"ophis": {"render": [], "cpu": [], "process": []}}
         for v in variants:
-            rows[v] = {"render": [], "process": []}
+            rows[v] = {"render": [], "cpu": [], "process": []}
         means = {}
         failed = {}
         for _ in range(a.repeats):
             out = os.path.join(OUT, f"{name}-ophis.exr")
-            secs, wall = ophis_render(scene, a.spp, a.res, defines, out)
+            secs, cpu, wall = ophis_render(scene, a.spp, a.res, defines, out)
             rows["ophis"]["render"].append(secs)
+            rows["ophis"]["cpu"].append(cpu)
             rows["ophis"]["process"].append(wall)
             means["ophis"] = mean_rgb_exr(out)
             for v in variants:
@@ -156,16 +169,18 @@ def main():
                     continue
                 out = os.path.join(OUT, f"{name}-{v}.exr")
                 try:
-                    secs, means[v] = mitsuba_render(v, scene, a.spp, a.res, defines, out)
+                    secs, cpu, means[v] = mitsuba_render(v, scene, a.spp, a.res, defines, out)
                     proc = mitsuba_process(v, scene, a.spp, a.res, defines, out)
                 except Exception as e:  # e.g. libLLVM missing
                     failed[v] = str(e).splitlines()[0][:80]
                     continue
                 rows[v]["render"].append(secs)
+                rows[v]["cpu"].append(cpu)
                 rows[v]["process"].append(proc)
         print(f"\n{name}")
-        print(f"  {'renderer':<24} {'render s':>18} {'Msamples/s':>20} {'process s':>18} "
-              f"{'ophis × (render)':>20} {'ophis × (process)':>20}  mean linear sRGB")
+        print(f"  {'renderer':<24} {'render s':>18} {'Msamples/s':>20} {'render CPU s':>20} "
+              f"{'process s':>18} {'ophis × (render)':>20} {'ophis × (CPU)':>20} "
+              f"{'ophis × (process)':>20}  mean linear sRGB")
         o = rows["ophis"]
         for r, t in rows.items():
             if r in failed:
@@ -173,14 +188,16 @@ def main():
                 continue
             sps = [samples / s / 1e6 for s in t["render"]]
             label = r if r == "ophis" else "mitsuba " + r
-            ratio_r = ratio_p = ""
+            ratio_r = ratio_c = ratio_p = ""
             if r != "ophis":
                 ratio_r = spread([m / x for x, m in zip(o["render"], t["render"])])
+                ratio_c = spread([m / x for x, m in zip(o["cpu"], t["cpu"])])
                 ratio_p = spread([m / x for x, m in zip(o["process"], t["process"])])
             m = means.get(r)
             ms = "" if m is None else "(%.4f, %.4f, %.4f)" % tuple(m)
             print(f"  {label:<24} {spread(t['render']):>18} {spread(sps, '{:.3f}'):>20} "
-                  f"{spread(t['process']):>18} {ratio_r:>20} {ratio_p:>20}  {ms}")
+                  f"{spread(t['cpu']):>20} {spread(t['process']):>18} {ratio_r:>20} "
+                  f"{ratio_c:>20} {ratio_p:>20}  {ms}")
 
 
 if __name__ == "__main__":

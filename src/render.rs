@@ -64,6 +64,9 @@ pub struct RenderStats {
     pub samples: u64,
     /// Wall-clock seconds.
     pub seconds: f64,
+    /// CPU seconds of the whole process over the render, all threads together (on a shared
+    /// machine a steadier measure of the work than wall time; NaN where it cannot be read).
+    pub cpu_seconds: f64,
     /// Whether the render stopped before the target (time budget or cancellation).
     pub stopped_early: bool,
 }
@@ -175,6 +178,7 @@ pub fn render_with(
     );
     prepare_aovs(scene, film);
     let t0 = Instant::now();
+    let cpu0 = process_cpu_seconds();
     let program = (opts.engine == Engine::Auto && wave::supports(scene))
         .then(|| wave::WaveProgram::new(scene));
     let (w, h) = (scene.width, scene.height);
@@ -252,8 +256,32 @@ pub fn render_with(
         spp_complete,
         samples: done.load(Ordering::Relaxed),
         seconds: t0.elapsed().as_secs_f64(),
+        cpu_seconds: process_cpu_seconds() - cpu0,
         stopped_early,
     }
+}
+
+/// CPU seconds this process has used so far, all threads together (Linux, via
+/// `clock_gettime(CLOCK_PROCESS_CPUTIME_ID)`, 64-bit); NaN elsewhere.
+pub fn process_cpu_seconds() -> f64 {
+    #[cfg(all(target_os = "linux", target_pointer_width = "64"))]
+    {
+        #[repr(C)]
+        struct Timespec {
+            sec: i64,
+            nsec: i64,
+        }
+        extern "C" {
+            fn clock_gettime(clock: i32, ts: *mut Timespec) -> i32;
+        }
+        const CLOCK_PROCESS_CPUTIME_ID: i32 = 2;
+        let mut ts = Timespec { sec: 0, nsec: 0 };
+        // SAFETY: clock_gettime writes one timespec, which `ts` is.
+        if unsafe { clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &mut ts) } == 0 {
+            return ts.sec as f64 + ts.nsec as f64 * 1e-9;
+        }
+    }
+    f64::NAN
 }
 
 fn tile_extent(scene: &Scene, x0: u32, y0: u32) -> (u32, u32) {

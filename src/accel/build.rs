@@ -20,7 +20,7 @@ use super::block::ANALYTIC;
 use super::wide::Node8;
 use crate::math::Vec3;
 use crate::shape::Shape;
-use glam::Vec4;
+use glam::{BVec4A, Vec4};
 use rayon::prelude::*;
 
 /// Largest number of primitives in a leaf.
@@ -422,15 +422,40 @@ impl Binner {
         }
     }
 
+    /// The bin along one axis: lane `axis` of [`Binner::bins`], computed alone.
+    #[inline(always)]
+    fn bin(&self, c2: Vec4, axis: usize) -> usize {
+        let x = (c2[axis] - self.clo[axis]) * self.scale[axis];
+        let x = if x > 0.0 { x } else { 0.0 }.min(self.last[axis]);
+        // SAFETY: x is finite and in [0, nb − 1].
+        unsafe { x.to_int_unchecked::<u32>() as usize }
+    }
+
+    /// Adds `refs` to `bins`. Pairs of refs from a long run go to two sets of bins that are
+    /// merged at the end: neighbouring refs often fall in the same bin, and one set would make
+    /// each wait for the other's update to that bin to be stored.
     fn fill(&self, refs: &[Ref], bins: &mut Bins) {
-        for r in refs {
-            let b = self.bins(r.c2());
-            for (a, &b) in b.iter().enumerate() {
+        let add = |bins: &mut Bins, r: &Ref| {
+            for (a, b) in self.bins(r.c2()).into_iter().enumerate() {
                 bins.n[a][b] += 1;
                 bins.lo[a][b] = bins.lo[a][b].min(r.lo);
                 bins.hi[a][b] = bins.hi[a][b].max(r.hi);
             }
+        };
+        if refs.len() < 256 {
+            refs.iter().for_each(|r| add(bins, r));
+            return;
         }
+        let mut other = Bins::EMPTY;
+        let mut pairs = refs.chunks_exact(2);
+        for p in &mut pairs {
+            add(bins, &p[0]);
+            add(&mut other, &p[1]);
+        }
+        for r in pairs.remainder() {
+            add(bins, r);
+        }
+        *bins = bins.merge(&other);
     }
 }
 
@@ -506,21 +531,22 @@ fn split(refs: &mut [Ref], sp: &Span, free: bool) -> Option<(Span, Span)> {
         return Some(halves(refs, sp, n / 2));
     }
     // Partition in place (bins below `plane` go left), gathering both sides' centroid bounds.
+    // Without branches: which side a ref goes to is as good as random, and a mispredicted
+    // branch per ref cost more than the swap that every ref now makes (Lomuto's scheme: refs
+    // before `i` are the left side so far).
     let inf = Vec4::splat(f32::INFINITY);
     let (mut lclo, mut lchi, mut rclo, mut rchi) = (inf, -inf, inf, -inf);
-    let (mut i, mut j) = (0usize, n);
-    while i < j {
-        let c = refs[i].c2();
-        if binner.bins(c)[axis] < plane {
-            lclo = lclo.min(c);
-            lchi = lchi.max(c);
-            i += 1;
-        } else {
-            rclo = rclo.min(c);
-            rchi = rchi.max(c);
-            j -= 1;
-            refs.swap(i, j);
-        }
+    let mut i = 0usize;
+    for j in 0..n {
+        let c = refs[j].c2();
+        let left = binner.bin(c, axis) < plane;
+        let m = BVec4A::splat(left);
+        lclo = Vec4::select(m, lclo.min(c), lclo);
+        lchi = Vec4::select(m, lchi.max(c), lchi);
+        rclo = Vec4::select(m, rclo, rclo.min(c));
+        rchi = Vec4::select(m, rchi, rchi.max(c));
+        refs.swap(i, j);
+        i += left as usize;
     }
     if i == 0 || i == n {
         return Some(halves(refs, sp, n / 2));

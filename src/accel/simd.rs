@@ -227,17 +227,24 @@ binop!(F4, Div, div, div_);
 binop!(M4, BitAnd, bitand, and_);
 binop!(M4, BitOr, bitor, or_);
 
-/// Asks the CPU to bring the `lines` cache lines from `p` on into the cache (a hint: no
-/// effect on results, and none at all off x86-64).
+/// Asks the CPU to bring every cache line holding `count` values from `p` on into the cache
+/// (a hint: no effect on results, and none at all off x86-64). Lines are counted from the
+/// address, not the length: a 160-byte block that starts mid-line spans four lines, not three.
 #[inline(always)]
-pub fn prefetch<T>(p: *const T, lines: usize) {
+pub fn prefetch<T>(p: *const T, count: usize) {
     #[cfg(target_arch = "x86_64")]
-    for i in 0..lines {
-        // SAFETY: prefetching never faults, whatever the address.
-        unsafe { _mm_prefetch::<_MM_HINT_T0>(p.cast::<i8>().wrapping_add(64 * i)) };
+    {
+        let first = p as usize & !63;
+        let last = (p as usize + std::mem::size_of::<T>() * count - 1) & !63;
+        let mut line = first;
+        while line <= last {
+            // SAFETY: prefetching never faults, whatever the address.
+            unsafe { _mm_prefetch::<_MM_HINT_T0>(line as *const i8) };
+            line += 64;
+        }
     }
     #[cfg(not(target_arch = "x86_64"))]
-    let _ = (p, lines);
+    let _ = (p, count);
 }
 
 /// Bits of the lanes of `a` with the top bit set.

@@ -32,13 +32,14 @@ pub struct View<'a> {
 }
 
 impl View<'_> {
-    /// Prefetches the memory of child reference `c`: a node, or a leaf's first block.
+    /// Prefetches the memory of child reference `c`: a node, or all of a leaf's blocks.
     #[inline(always)]
     fn prefetch(&self, c: u32) {
         if c & LEAF != 0 {
-            prefetch(self.blocks.as_ptr().wrapping_add(leaf_range(c).0), 3);
+            let (first, n) = leaf_range(c);
+            prefetch(self.blocks.as_ptr().wrapping_add(first), n);
         } else {
-            prefetch(self.nodes.as_ptr().wrapping_add(c as usize), 4);
+            prefetch(self.nodes.as_ptr().wrapping_add(c as usize), 1);
         }
     }
 }

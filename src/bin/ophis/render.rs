@@ -453,7 +453,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
     let names: Vec<String> = outputs.iter().map(|p| p.display().to_string()).collect();
     let sps = stats.samples as f64 / stats.seconds.max(1e-9);
     eprintln!(
-        "{}x{}, {} spp{}, {:.2} s, {:.3} Msamples/s -> {}",
+        "{}x{}, {} spp{}, {:.2} s, {:.2} CPU s, {:.3} Msamples/s -> {}",
         scene.width,
         scene.height,
         stats.spp_complete,
@@ -463,6 +463,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
             String::new()
         },
         stats.seconds,
+        stats.cpu_seconds,
         sps / 1e6,
         names.join(", ")
     );
