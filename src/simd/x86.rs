@@ -131,6 +131,16 @@ impl Int for I8 {
         }
     }
     #[inline(always)]
+    fn load(s: &[u32]) -> I8 {
+        assert!(s.len() >= 8);
+        unsafe { I8(_mm256_loadu_si256(s.as_ptr() as *const __m256i)) }
+    }
+    #[inline(always)]
+    fn store(self, s: &mut [u32]) {
+        assert!(s.len() >= 8);
+        unsafe { _mm256_storeu_si256(s.as_mut_ptr() as *mut __m256i, self.0) }
+    }
+    #[inline(always)]
     fn load_at(s: &[u32], i: usize) -> I8 {
         assert!(i + 8 <= s.len());
         unsafe { I8(_mm256_loadu_si256(s.as_ptr().add(i) as *const __m256i)) }
@@ -204,6 +214,16 @@ impl Float for F8 {
                 _mm256_and_ps(s, sign.0),
             ))
         }
+    }
+    #[inline(always)]
+    fn load(s: &[f32]) -> F8 {
+        assert!(s.len() >= 8);
+        unsafe { F8(_mm256_loadu_ps(s.as_ptr())) }
+    }
+    #[inline(always)]
+    fn store(self, s: &mut [f32]) {
+        assert!(s.len() >= 8);
+        unsafe { _mm256_storeu_ps(s.as_mut_ptr(), self.0) }
     }
     #[inline(always)]
     fn load_at(s: &[f32], i: usize) -> F8 {

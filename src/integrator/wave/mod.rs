@@ -112,17 +112,6 @@ impl Shadows {
     }
 }
 
-/// What [`render_tile`] renders, as one value for its entry point per instruction set.
-#[derive(Clone, Copy)]
-struct Tile<'a> {
-    scene: &'a Scene,
-    prog: &'a Program,
-    corner: (u32, u32),
-    far: (u32, u32),
-    samples: (u32, u32),
-    strategy: PathStrategy,
-}
-
 /// Renders samples [s0, s1) of every pixel of the tile with corner (x0, y0) and far corner
 /// (x1, y1) (exclusive); returns per-pixel sums (X, Y, Z, count), row-major.
 pub fn render_tile(
@@ -133,48 +122,50 @@ pub fn render_tile(
     samples: (u32, u32),
     strategy: PathStrategy,
 ) -> Vec<[f64; 4]> {
-    let tile = Tile {
-        scene,
-        prog,
-        corner,
-        far,
-        samples,
-        strategy,
-    };
     #[cfg(target_arch = "x86_64")]
     {
-        #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
-        fn avx2(tile: Tile) -> Vec<[f64; 4]> {
-            run::<crate::simd::F8>(tile)
+        // `run` with lanes `$lanes`, compiled for the instruction set `$features`.
+        macro_rules! entry {
+            ($name:ident, $lanes:ty, $features:literal) => {
+                #[target_feature(enable = $features)]
+                fn $name(
+                    s: &Scene,
+                    p: &Program,
+                    c: (u32, u32),
+                    f: (u32, u32),
+                    n: (u32, u32),
+                    st: PathStrategy,
+                ) -> Vec<[f64; 4]> {
+                    run::<$lanes>(s, p, c, f, n, st)
+                }
+            };
         }
-        #[target_feature(
-            enable = "avx512f,avx512vl,avx512bw,avx512dq,avx2,fma,bmi1,bmi2,lzcnt,popcnt"
-        )]
-        fn avx512(tile: Tile) -> Vec<[f64; 4]> {
-            run::<crate::simd::F16>(tile)
-        }
+        entry!(avx2, crate::simd::F8, "avx2,fma,bmi1,bmi2,lzcnt,popcnt");
+        entry!(
+            avx512,
+            crate::simd::F16,
+            "avx512f,avx512vl,avx512bw,avx512dq,avx2,fma,bmi1,bmi2,lzcnt,popcnt"
+        );
         match scene.bvh.isa() {
             // SAFETY: the BVH only holds an instruction set the CPU supports (`Isa::best`,
             // `Bvh::set_isa`).
-            Isa::Avx512 => return unsafe { avx512(tile) },
-            Isa::Avx2 => return unsafe { avx2(tile) },
+            Isa::Avx512 => return unsafe { avx512(scene, prog, corner, far, samples, strategy) },
+            Isa::Avx2 => return unsafe { avx2(scene, prog, corner, far, samples, strategy) },
             Isa::Baseline => {}
         }
     }
-    run::<f32>(tile)
+    run::<f32>(scene, prog, corner, far, samples, strategy)
 }
 
 /// The rounds of [`render_tile`] with lanes of type `F`.
 #[inline(always)]
 fn run<F: Float>(
-    Tile {
-        scene,
-        prog,
-        corner: (x0, y0),
-        far: (x1, y1),
-        samples: (s0, s1),
-        strategy,
-    }: Tile,
+    scene: &Scene,
+    prog: &Program,
+    (x0, y0): (u32, u32),
+    (x1, y1): (u32, u32),
+    (s0, s1): (u32, u32),
+    strategy: PathStrategy,
 ) -> Vec<[f64; 4]> {
     let ctx = Ctx {
         scene,
