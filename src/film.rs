@@ -75,8 +75,8 @@ impl Default for FilmSettings {
 
 fn load(a: &mut Args, _: ()) -> Result<FilmSettings, SceneError> {
     let mut film = FilmSettings {
-        width: a.int("width")? as u32,
-        height: a.int("height")? as u32,
+        width: a.u32("width")?,
+        height: a.u32("height")?,
         ..FilmSettings::default()
     };
     for f in a.children(Tag::Rfilter) {

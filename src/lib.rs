@@ -43,6 +43,8 @@ pub mod shape;
 pub mod simd;
 /// Spectral types, colour-matching functions, RGB uplift, named IOR data.
 pub mod spectrum;
+#[cfg(test)]
+mod test_util;
 /// Textures.
 pub mod texture;
 /// Tools above the renderer: the BSDF inspector behind `ophis bsdf`, quick renders, figures.

@@ -220,16 +220,19 @@ impl Material {
     ) -> Option<(Vec3, Vec3)> {
         let tc = TexCoord { uv: si.uv, p: si.p };
         let fp = || uv_footprint(si, width, si.ns.dot(wo));
+        // A map over another bump or normal map perturbs the inner one's frame.
+        let inner_frame = |inner: &Material| {
+            inner
+                .perturbed_normal(si, wo, width, front_side)
+                .unwrap_or((si.ns, si.dpdu))
+        };
         match self {
             Material::BumpMap {
                 height,
                 scale,
                 inner,
             } => {
-                // A bump map over a bump map: bump the inner one's frame.
-                let (n0, s0) = inner
-                    .perturbed_normal(si, wo, width, front_side)
-                    .unwrap_or((si.ns, si.dpdu));
+                let (n0, s0) = inner_frame(inner);
                 let grad = height.gradient(&tc, fp());
                 let (n, s) = bump_normal(n0, s0, si.dpdv, grad, *scale);
                 Some((apply_cell_tilt(height, n, s, si.uv), s))
@@ -239,9 +242,7 @@ impl Material {
                 strength,
                 inner,
             } => {
-                let (n0, s0) = inner
-                    .perturbed_normal(si, wo, width, front_side)
-                    .unwrap_or((si.ns, si.dpdu));
+                let (n0, s0) = inner_frame(inner);
                 let local = match source {
                     NormalSource::Scales(cells) => {
                         scales_tangent_normal(cells, si.uv, fp(), *strength)

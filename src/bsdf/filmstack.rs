@@ -301,7 +301,7 @@ fn load(a: &mut Args, _: ()) -> Result<Material, SceneError> {
                 let ior = index(a, &format!("ior_{i}"))?.expect("counted above");
                 layers.push((ior, a.float_texture(&format!("thickness_{i}"))?));
             }
-            let repeat = a.int("repeat")? as u32;
+            let repeat = a.u32("repeat")?;
             let constant: Option<Vec<Layer>> = layers
                 .iter()
                 .map(|(ior, d)| match d {

@@ -191,6 +191,18 @@ pub enum Bxdf {
     Black,
 }
 
+/// The BxDFs made only of delta lobes (a smooth surface over any Fresnel term), as a pattern:
+/// they have no value to evaluate and no density for another technique to find.
+macro_rules! smooth {
+    () => {
+        Bxdf::Dielectric(_)
+            | Bxdf::ThinDielectric(_)
+            | Bxdf::Conductor(_)
+            | Bxdf::ThinFilm(_)
+            | Bxdf::FilmStack(_)
+    };
+}
+
 impl Bxdf {
     /// `dielectric` of relative index `eta` with reflectance and transmittance factors.
     pub fn dielectric(eta: f32, r_s: SampledSpectrum, t_s: SampledSpectrum) -> Bxdf {
@@ -259,12 +271,7 @@ impl Bxdf {
             Bxdf::Plastic(b) => b.f(wo, wi),
             Bxdf::Absorption(b) => b.f(wo, wi),
             Bxdf::Layered(b) => b.f(wo, wi, mode),
-            Bxdf::Dielectric(_)
-            | Bxdf::ThinDielectric(_)
-            | Bxdf::Conductor(_)
-            | Bxdf::ThinFilm(_)
-            | Bxdf::FilmStack(_)
-            | Bxdf::Black => SampledSpectrum::ZERO,
+            smooth!() | Bxdf::Black => SampledSpectrum::ZERO,
         }
     }
 
@@ -347,12 +354,7 @@ impl Bxdf {
             Bxdf::Plastic(b) => b.pdf(wo, wi),
             Bxdf::Absorption(b) => b.pdf(wo, wi),
             Bxdf::Layered(b) => b.pdf(wo, wi, mode),
-            Bxdf::Dielectric(_)
-            | Bxdf::ThinDielectric(_)
-            | Bxdf::Conductor(_)
-            | Bxdf::ThinFilm(_)
-            | Bxdf::FilmStack(_)
-            | Bxdf::Black => 0.0,
+            smooth!() | Bxdf::Black => 0.0,
         }
     }
 }
@@ -386,12 +388,20 @@ impl Bsdf {
         self.bxdf.flags()
     }
 
-    /// BSDF value for world-space directions.
-    pub fn f(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> SampledSpectrum {
+    /// The pair in the local frame, mirrored to the front when a two-sided BSDF is seen from
+    /// below.
+    #[inline]
+    fn local_pair(&self, wo: Vec3, wi: Vec3) -> (Vec3, Vec3) {
         let (mut wo, mut wi) = (self.local(wo), self.local(wi));
         let s = self.side(wo);
         wo.z *= s;
         wi.z *= s;
+        (wo, wi)
+    }
+
+    /// BSDF value for world-space directions.
+    pub fn f(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> SampledSpectrum {
+        let (wo, wi) = self.local_pair(wo, wi);
         self.bxdf.f(wo, wi, mode)
     }
 
@@ -411,10 +421,7 @@ impl Bsdf {
 
     /// Density of sampling world-space `wi`.
     pub fn pdf(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> f32 {
-        let (mut wo, mut wi) = (self.local(wo), self.local(wi));
-        let s = self.side(wo);
-        wo.z *= s;
-        wi.z *= s;
+        let (wo, wi) = self.local_pair(wo, wi);
         self.bxdf.pdf(wo, wi, mode)
     }
 }

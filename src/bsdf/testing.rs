@@ -419,11 +419,16 @@ impl Estimate {
     }
 }
 
-fn per_channel(mut sample: impl FnMut(usize) -> [f64; N], n: usize) -> [Estimate; N] {
+/// Mean and standard error per channel of `n` draws of `sample`, each drawing from `rng`.
+fn per_channel(
+    n: usize,
+    mut rng: Pcg32,
+    mut sample: impl FnMut(&mut Pcg32) -> [f64; N],
+) -> [Estimate; N] {
     let mut s = [0.0f64; N];
     let mut s2 = [0.0f64; N];
-    for k in 0..n {
-        let v = sample(k);
+    for _ in 0..n {
+        let v = sample(&mut rng);
         for i in 0..N {
             s[i] += v[i];
             s2[i] += v[i] * v[i];
@@ -443,20 +448,16 @@ pub fn albedo(
     seed: u64,
     include_delta: bool,
 ) -> [Estimate; N] {
-    let mut rng = Pcg32::new(seed, 0xa1b);
-    per_channel(
-        |_| {
-            let (uc, u) = (rng.next_f32(), rng.next_vec2());
-            match bxdf.sample_f(wo, uc, u, mode) {
-                Some(bs) if bs.pdf > 0.0 && (include_delta || !bs.is_specular()) => {
-                    let w = bs.wi.z.abs() / bs.pdf;
-                    bs.f.0.map(|v| (v * w) as f64)
-                }
-                _ => [0.0; N],
+    per_channel(n, Pcg32::new(seed, 0xa1b), |rng| {
+        let (uc, u) = (rng.next_f32(), rng.next_vec2());
+        match bxdf.sample_f(wo, uc, u, mode) {
+            Some(bs) if bs.pdf > 0.0 && (include_delta || !bs.is_specular()) => {
+                let w = bs.wi.z.abs() / bs.pdf;
+                bs.f.0.map(|v| (v * w) as f64)
             }
-        },
-        n,
-    )
+            _ => [0.0; N],
+        }
+    })
 }
 
 #[cfg(test)]
@@ -511,15 +512,11 @@ pub(crate) fn hemispherical_integral(
     n: usize,
     seed: u64,
 ) -> [Estimate; N] {
-    let mut rng = Pcg32::new(seed, 0x4e1);
-    per_channel(
-        |_| {
-            let wi = warp::square_to_uniform_sphere(rng.next_vec2());
-            let f = bxdf.f(wo, wi, mode);
-            f.0.map(|v| (v * wi.z.abs() * 4.0 * PI) as f64)
-        },
-        n,
-    )
+    per_channel(n, Pcg32::new(seed, 0x4e1), |rng| {
+        let wi = warp::square_to_uniform_sphere(rng.next_vec2());
+        let f = bxdf.f(wo, wi, mode);
+        f.0.map(|v| (v * wi.z.abs() * 4.0 * PI) as f64)
+    })
 }
 
 #[cfg(test)]

@@ -13,16 +13,14 @@
 //! Known limits: none.
 
 use super::{Filter, GAUSS_TABLE};
-use crate::plugin::{declare, Args, Check, Param, SceneError};
+use crate::plugin::{declare, Args, Param, SceneError};
 
 /// Mitsuba's default standard deviation, in pixels.
 pub(crate) const DEFAULT_STDDEV: f32 = 0.5;
 
 declare!(PLUGIN: Filter = Rfilter "gaussian" []
     "Gaussian reconstruction filter (the default), truncated at 4σ"
-    [&[Param::float("stddev", DEFAULT_STDDEV)
-        .check(Check::OpenClosed(0.0, 4.0))
-        .unit("pixels")
+    [&[Param::up_to("stddev", DEFAULT_STDDEV, 4.0, "pixels")
         .doc("standard deviation")]] load);
 
 fn load(a: &mut Args, _: ()) -> Result<Filter, SceneError> {

@@ -10,13 +10,11 @@
 //! Known limits: none (the film samples it exactly by inverting its CDF).
 
 use super::Filter;
-use crate::plugin::{declare, Args, Check, Param, SceneError};
+use crate::plugin::{declare, Args, Param, SceneError};
 
 declare!(PLUGIN: Filter = Rfilter "tent" []
     "triangle reconstruction filter"
-    [&[Param::float("radius", 1.0)
-        .check(Check::OpenClosed(0.0, 16.0))
-        .unit("pixels")
+    [&[Param::up_to("radius", 1.0, 16.0, "pixels")
         .doc("where the triangle reaches zero")]] load);
 
 fn load(a: &mut Args, _: ()) -> Result<Filter, SceneError> {

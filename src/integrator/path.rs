@@ -378,7 +378,7 @@ fn load(a: &mut Args, _: ()) -> Result<IntegratorSettings, SceneError> {
     Ok(IntegratorSettings {
         kind: IntegratorKind::Path,
         max_depth: u32::try_from(max_depth).ok(),
-        rr_depth: a.int("rr_depth")? as u32,
+        rr_depth: a.u32("rr_depth")?,
         hide_emitters: a.bool("hide_emitters")?,
         aov: None,
     })

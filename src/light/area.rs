@@ -57,14 +57,20 @@ impl AreaLight {
         }
     }
 
+    /// The emitting shape among the scene's `shapes` (`None` if the index is out of range):
+    /// the one the methods below are given.
+    pub(crate) fn shape_in<'s>(&self, shapes: &'s [Shape]) -> Option<&'s Shape> {
+        shapes.get(self.shape as usize)
+    }
+
+    /// Samples a point of the light's shape `shape` as seen from `ctx`.
     pub(crate) fn sample_li(
         &self,
         ctx: &LightSampleContext,
         u: Vec2,
         wl: &SampledWavelengths,
-        shapes: &[Shape],
+        shape: &Shape,
     ) -> Option<LightLiSample> {
-        let shape = shapes.get(self.shape as usize)?;
         let ss = shape.sample_direct(ctx.p, u)?;
         let d = ss.p - ctx.p;
         let dist2 = d.length_squared();
@@ -85,18 +91,17 @@ impl AreaLight {
         })
     }
 
+    /// The density of [`Self::sample_li`] choosing `hit`, a point of some shape.
     pub(crate) fn pdf_li(
         &self,
         ctx: &LightSampleContext,
         hit: &SurfaceInteraction,
-        shapes: &[Shape],
+        shape: &Shape,
     ) -> f32 {
         if hit.shape != self.shape {
             return 0.0;
         }
-        shapes
-            .get(self.shape as usize)
-            .map_or(0.0, |s| s.pdf_direct(ctx.p, hit.p, hit.ng))
+        shape.pdf_direct(ctx.p, hit.p, hit.ng)
     }
 
     pub(crate) fn l(
@@ -113,9 +118,8 @@ impl AreaLight {
     }
 
     /// π A L: the power of a one-sided Lambertian emitter of area A.
-    pub(crate) fn power(&self, shapes: &[Shape]) -> f32 {
-        let area = shapes.get(self.shape as usize).map_or(0.0, Shape::area);
-        PI * area * super::spectrum_mean(&self.radiance)
+    pub(crate) fn power(&self, shape: &Shape) -> f32 {
+        PI * shape.area() * super::spectrum_mean(&self.radiance)
     }
 }
 

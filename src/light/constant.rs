@@ -15,8 +15,8 @@
 //! Known limits: the visibility point is placed beyond the scene's bounding sphere, so
 //! [`super::Light::preprocess`] must be called first.
 
-use super::infinite::SceneSphere;
-use super::{Light, LightLiSample, LightSampleContext};
+use super::infinite::InfiniteLight;
+use super::Light;
 use crate::plugin::{declare, Args, Param, SceneError};
 
 declare!(PLUGIN: Vec<Light>, Option<u32> = Emitter "constant" []
@@ -28,9 +28,8 @@ declare!(PLUGIN: Vec<Light>, Option<u32> = Emitter "constant" []
     ]] load);
 
 fn load(a: &mut Args, _: Option<u32>) -> Result<Vec<Light>, SceneError> {
-    Ok(vec![Light::Constant(ConstantLight::new(
-        a.spectrum("radiance")?,
-    ))])
+    let radiance = a.spectrum("radiance")?;
+    Ok(vec![Light::Constant(ConstantLight::new(radiance).into())])
 }
 use crate::math::warp::{square_to_cosine_hemisphere, square_to_uniform_sphere};
 use crate::math::{Frame, Vec2, Vec3, INV_4PI, INV_PI, PI};
@@ -43,29 +42,18 @@ const COSINE_SHARE: f32 = 0.9;
 #[derive(Clone, Debug)]
 pub struct ConstantLight {
     pub radiance: Spectrum,
-    sphere: SceneSphere,
 }
 
 impl ConstantLight {
     /// A uniform environment of the given radiance.
     pub fn new(radiance: Spectrum) -> ConstantLight {
-        ConstantLight {
-            radiance,
-            sphere: SceneSphere::default(),
-        }
+        ConstantLight { radiance }
     }
+}
 
-    pub(crate) fn set_scene_sphere(&mut self, c: Vec3, r: f32) {
-        self.sphere = SceneSphere::new(c, r);
-    }
-
-    pub(crate) fn sample_li(
-        &self,
-        ctx: &LightSampleContext,
-        u: Vec2,
-        wl: &SampledWavelengths,
-    ) -> Option<LightLiSample> {
-        let n = ctx.n.normalize_or_zero();
+impl InfiniteLight for ConstantLight {
+    fn sample_wi(&self, n: Vec3, u: Vec2) -> Option<Vec3> {
+        let n = n.normalize_or_zero();
         let wi = if n == Vec3::ZERO {
             square_to_uniform_sphere(u)
         } else if u.x < COSINE_SHARE {
@@ -75,53 +63,38 @@ impl ConstantLight {
             let u = Vec2::new((u.x - COSINE_SHARE) / (1.0 - COSINE_SHARE), u.y);
             square_to_uniform_sphere(u.min(Vec2::splat(crate::math::ONE_MINUS_EPSILON)))
         };
-        let wi = wi.normalize_or_zero();
-        let pdf = self.pdf_li(ctx, wi);
-        if pdf.is_nan() || pdf <= 0.0 {
-            return None;
-        }
-        Some(LightLiSample {
-            l: self.radiance.sample(wl),
-            wi,
-            pdf,
-            p_light: self.sphere.beyond(ctx.p, wi),
-            is_delta: false,
-        })
+        Some(wi.normalize_or_zero())
     }
 
-    pub(crate) fn pdf_li(&self, ctx: &LightSampleContext, wi: Vec3) -> f32 {
-        let n = ctx.n.normalize_or_zero();
+    fn pdf_li(&self, n: Vec3, wi: Vec3) -> f32 {
+        let n = n.normalize_or_zero();
         if n == Vec3::ZERO {
             return INV_4PI;
         }
         COSINE_SHARE * n.dot(wi).max(0.0) * INV_PI + (1.0 - COSINE_SHARE) * INV_4PI
     }
 
-    pub(crate) fn le(&self, wl: &SampledWavelengths) -> SampledSpectrum {
+    fn le(&self, _: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
         self.radiance.sample(wl)
     }
 
     /// Power falling on the scene's bounding sphere: π r² · 4π L.
-    pub(crate) fn power(&self) -> f32 {
-        4.0 * PI
-            * PI
-            * self.sphere.radius
-            * self.sphere.radius
-            * super::spectrum_mean(&self.radiance)
+    fn power(&self, r: f32) -> f32 {
+        4.0 * PI * PI * r * r * super::spectrum_mean(&self.radiance)
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::super::test_util::{mean_and_sigma, wl};
-    use super::super::Light;
+    use super::super::LightSampleContext;
     use super::*;
     use crate::math::Pcg32;
 
     #[test]
     fn irradiance_estimate_is_pi_l() {
         // E[L max(0, cos θ) / pdf] = π L on a surface with normal n, for both strategies.
-        let light = Light::Constant(ConstantLight::new(Spectrum::Constant(2.0)));
+        let light = Light::Constant(ConstantLight::new(Spectrum::Constant(2.0)).into());
         assert!(light.is_infinite() && !light.is_delta());
         let n = Vec3::new(1.0, 2.0, -0.5).normalize();
         for ctx_n in [n, Vec3::ZERO] {

@@ -12,11 +12,11 @@
 //! Known limits: a delta light (next-event estimation only); the visibility point is placed
 //! beyond the scene's bounding sphere, so [`super::Light::preprocess`] must be called first.
 
-use super::infinite::SceneSphere;
-use super::{Light, LightLiSample, LightSampleContext};
-use crate::math::{Vec3, PI};
+use super::infinite::InfiniteLight;
+use super::Light;
+use crate::math::{Vec2, Vec3, PI};
 use crate::plugin::{declare, Args, DefaultValue, Param, SceneError, Ty};
-use crate::spectrum::{SampledWavelengths, Spectrum};
+use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
 
 declare!(PLUGIN: Vec<Light>, Option<u32> = Emitter "directional" []
     "parallel light from infinity"
@@ -38,7 +38,7 @@ fn load(a: &mut Args, _: Option<u32>) -> Result<Vec<Light>, SceneError> {
     };
     let l = DirectionalLight::new(dir, irradiance)
         .ok_or_else(|| a.error("direction", "must be a non-zero vector"))?;
-    Ok(vec![Light::Directional(l)])
+    Ok(vec![Light::Directional(l.into())])
 }
 
 /// A directional light.
@@ -47,7 +47,6 @@ pub struct DirectionalLight {
     /// Unit direction in which the light travels.
     pub direction: Vec3,
     pub irradiance: Spectrum,
-    sphere: SceneSphere,
 }
 
 impl DirectionalLight {
@@ -57,32 +56,34 @@ impl DirectionalLight {
         (d != Vec3::ZERO).then_some(DirectionalLight {
             direction: d,
             irradiance,
-            sphere: SceneSphere::default(),
         })
     }
+}
 
-    pub(crate) fn set_scene_sphere(&mut self, c: Vec3, r: f32) {
-        self.sphere = SceneSphere::new(c, r);
+impl InfiniteLight for DirectionalLight {
+    fn sample_wi(&self, _: Vec3, _: Vec2) -> Option<Vec3> {
+        Some(-self.direction)
     }
 
-    pub(crate) fn sample_li(
-        &self,
-        ctx: &LightSampleContext,
-        wl: &SampledWavelengths,
-    ) -> Option<LightLiSample> {
-        let wi = -self.direction;
-        Some(LightLiSample {
-            l: self.irradiance.sample(wl),
-            wi,
-            pdf: 1.0,
-            p_light: self.sphere.beyond(ctx.p, wi),
-            is_delta: true,
-        })
+    fn pdf_li(&self, _: Vec3, _: Vec3) -> f32 {
+        0.0
+    }
+
+    fn le(&self, _: Vec3, _: &SampledWavelengths) -> SampledSpectrum {
+        SampledSpectrum::ZERO
+    }
+
+    fn is_delta(&self) -> bool {
+        true
+    }
+
+    fn li(&self, _: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
+        self.irradiance.sample(wl)
     }
 
     /// Power through the scene's bounding disk.
-    pub(crate) fn power(&self) -> f32 {
-        PI * self.sphere.radius * self.sphere.radius * super::spectrum_mean(&self.irradiance)
+    fn power(&self, r: f32) -> f32 {
+        PI * r * r * super::spectrum_mean(&self.irradiance)
     }
 }
 
@@ -91,12 +92,12 @@ mod tests {
     use super::super::test_util::wl;
     use super::super::{Light, LightSampleContext};
     use super::*;
-    use crate::math::{Bounds3, Vec2};
+    use crate::math::Bounds3;
 
     #[test]
     fn is_a_delta_light_at_infinity() {
         let dl = DirectionalLight::new(Vec3::new(0.0, 0.0, -2.0), Spectrum::Constant(3.0)).unwrap();
-        let mut light = Light::Directional(dl);
+        let mut light = Light::Directional(dl.into());
         assert!(light.is_delta() && light.is_infinite());
         let mut b = Bounds3::from_point(Vec3::splat(-1.0));
         b.grow(Vec3::splat(1.0));

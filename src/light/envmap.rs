@@ -41,8 +41,8 @@
 //! without being accounted for).
 
 use super::distribution::Distribution2D;
-use super::infinite::{latlong_pdf, latlong_sample, SceneSphere};
-use super::{Light, LightLiSample, LightSampleContext};
+use super::infinite::{latlong_pdf, InfiniteLight};
+use super::Light;
 use crate::image_io::{read_image, RgbImage};
 use crate::math::{Transform, Vec2, Vec3, PI};
 use crate::plugin::{declare, Args, Check, DefaultValue, Param, SceneError, Ty};
@@ -69,7 +69,7 @@ fn load(a: &mut Args, _: Option<u32>) -> Result<Vec<Light>, SceneError> {
     let scale = a.float("scale")?;
     let to_world = a.transform("to_world")?;
     let light = EnvMapLight::new(image, scale, to_world).map_err(|e| a.error("filename", e))?;
-    Ok(vec![Light::EnvMap(light)])
+    Ok(vec![Light::EnvMap(light.into())])
 }
 
 /// Why an environment map cannot be built.
@@ -98,7 +98,6 @@ pub struct EnvMapLight {
     to_local: Transform,
     /// ∫ luminance dω over the sphere (times `scale`), for the power estimate.
     luminance_integral: f32,
-    sphere: SceneSphere,
 }
 
 /// Rec. 709 luminance of linear sRGB.
@@ -201,12 +200,7 @@ impl EnvMapLight {
             to_world,
             to_local: to_world.inverse(),
             luminance_integral: (integral * scale as f64) as f32,
-            sphere: SceneSphere::default(),
         }
-    }
-
-    pub(crate) fn set_scene_sphere(&mut self, c: Vec3, r: f32) {
-        self.sphere = SceneSphere::new(c, r);
     }
 
     /// Half a texel in u: the sampling grid's offset from the texel grid.
@@ -254,18 +248,20 @@ impl EnvMapLight {
         }
         shape * (scale * self.scale)
     }
+}
 
-    /// Radiance seen along the escaping direction `dir` (world space).
-    pub(crate) fn le(&self, dir: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
-        let d = self.local(dir);
-        if d == Vec3::ZERO {
-            return SampledSpectrum::ZERO;
-        }
-        self.radiance_uv(direction_to_uv(d), wl)
+impl InfiniteLight for EnvMapLight {
+    fn sample_wi(&self, _: Vec3, u: Vec2) -> Option<Vec3> {
+        let (cell, _, _) = self.dist.sample(u);
+        let uv = Vec2::new((cell.x + self.half_texel()).rem_euclid(1.0), cell.y);
+        Some(
+            self.to_world
+                .vector(uv_to_direction(uv))
+                .normalize_or_zero(),
+        )
     }
 
-    /// Solid-angle density of [`Self::sample_li`] producing the world direction `wi`.
-    pub(crate) fn pdf_li(&self, wi: Vec3) -> f32 {
+    fn pdf_li(&self, _: Vec3, wi: Vec3) -> f32 {
         latlong_pdf(self.local(wi), |uv| {
             let u = (uv.x - self.half_texel())
                 .rem_euclid(1.0)
@@ -274,21 +270,17 @@ impl EnvMapLight {
         })
     }
 
-    pub(crate) fn sample_li(
-        &self,
-        ctx: &LightSampleContext,
-        u: Vec2,
-        wl: &SampledWavelengths,
-    ) -> Option<LightLiSample> {
-        let (cell, _, _) = self.dist.sample(u);
-        let uv = Vec2::new((cell.x + self.half_texel()).rem_euclid(1.0), cell.y);
-        let (pdf_li, le) = (|wi| self.pdf_li(wi), |wi| self.le(wi, wl));
-        latlong_sample(ctx, &self.to_world, uv, &self.sphere, pdf_li, le)
+    fn le(&self, dir: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
+        let d = self.local(dir);
+        if d == Vec3::ZERO {
+            return SampledSpectrum::ZERO;
+        }
+        self.radiance_uv(direction_to_uv(d), wl)
     }
 
     /// Power falling on the scene's bounding sphere: π r² ∫ luminance dω.
-    pub(crate) fn power(&self) -> f32 {
-        PI * self.sphere.radius * self.sphere.radius * self.luminance_integral
+    fn power(&self, r: f32) -> f32 {
+        PI * r * r * self.luminance_integral
     }
 }
 

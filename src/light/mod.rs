@@ -20,12 +20,14 @@ pub use constant::ConstantLight;
 pub use directional::DirectionalLight;
 pub use distribution::{Distribution1D, Distribution2D, LightSampler};
 pub use envmap::{EnvMapError, EnvMapLight};
+pub use infinite::AtInfinity;
 pub use point::PointLight;
 pub use sunsky::{SkyLight, SunLight};
 
 use crate::math::{Bounds3, Vec2, Vec3};
 use crate::shape::{Shape, SurfaceInteraction};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum, LAMBDA_MAX, LAMBDA_MIN};
+use infinite::InfiniteLight;
 
 /// The shading point a light is sampled from.
 #[derive(Clone, Copy, Debug)]
@@ -58,14 +60,14 @@ pub struct LightLiSample {
 #[derive(Clone, Debug)]
 pub enum Light {
     Point(PointLight),
-    Directional(DirectionalLight),
-    Constant(ConstantLight),
-    EnvMap(EnvMapLight),
+    Directional(AtInfinity<DirectionalLight>),
+    Constant(AtInfinity<ConstantLight>),
+    EnvMap(AtInfinity<EnvMapLight>),
     Area(AreaLight),
     /// Preetham's clear sky (`sunsky`, `sky`).
-    Sky(SkyLight),
+    Sky(AtInfinity<SkyLight>),
     /// The solar disk (`sunsky`, `sun`).
-    Sun(SunLight),
+    Sun(AtInfinity<SunLight>),
 }
 
 impl Light {
@@ -79,10 +81,10 @@ impl Light {
     ) -> Option<LightLiSample> {
         match self {
             Light::Point(l) => l.sample_li(ctx, wl),
-            Light::Directional(l) => l.sample_li(ctx, wl),
+            Light::Directional(l) => l.sample_li(ctx, u, wl),
             Light::Constant(l) => l.sample_li(ctx, u, wl),
             Light::EnvMap(l) => l.sample_li(ctx, u, wl),
-            Light::Area(l) => l.sample_li(ctx, u, wl, shapes),
+            Light::Area(l) => l.sample_li(ctx, u, wl, l.shape_in(shapes)?),
             Light::Sky(l) => l.sample_li(ctx, u, wl),
             Light::Sun(l) => l.sample_li(ctx, u, wl),
         }
@@ -99,23 +101,28 @@ impl Light {
         hit: Option<&SurfaceInteraction>,
     ) -> f32 {
         match self {
-            Light::Point(_) | Light::Directional(_) => 0.0,
-            Light::Constant(l) => l.pdf_li(ctx, wi),
-            Light::EnvMap(l) => l.pdf_li(wi),
-            Light::Area(l) => hit.map_or(0.0, |h| l.pdf_li(ctx, h, shapes)),
-            Light::Sky(l) => l.pdf_li(wi),
-            Light::Sun(l) => l.pdf_li(wi),
+            Light::Point(_) => 0.0,
+            Light::Directional(l) => l.pdf_li(ctx.n, wi),
+            Light::Constant(l) => l.pdf_li(ctx.n, wi),
+            Light::EnvMap(l) => l.pdf_li(ctx.n, wi),
+            Light::Area(l) => match (hit, l.shape_in(shapes)) {
+                (Some(hit), Some(shape)) => l.pdf_li(ctx, hit, shape),
+                _ => 0.0,
+            },
+            Light::Sky(l) => l.pdf_li(ctx.n, wi),
+            Light::Sun(l) => l.pdf_li(ctx.n, wi),
         }
     }
 
     /// Radiance seen by a ray that escapes the scene in direction `dir` (infinite lights only).
     pub fn le(&self, dir: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
         match self {
-            Light::Constant(l) => l.le(wl),
+            Light::Directional(l) => l.le(dir, wl),
+            Light::Constant(l) => l.le(dir, wl),
             Light::EnvMap(l) => l.le(dir, wl),
             Light::Sky(l) => l.le(dir, wl),
             Light::Sun(l) => l.le(dir, wl),
-            _ => SampledSpectrum::ZERO,
+            Light::Point(_) | Light::Area(_) => SampledSpectrum::ZERO,
         }
     }
 
@@ -153,11 +160,11 @@ impl Light {
         let (c, r) = scene_bounds.bounding_sphere();
         let r = r.max(1e-3);
         match self {
-            Light::Directional(l) => l.set_scene_sphere(c, r),
-            Light::Constant(l) => l.set_scene_sphere(c, r),
-            Light::EnvMap(l) => l.set_scene_sphere(c, r),
-            Light::Sky(l) => l.set_scene_sphere(c, r),
-            Light::Sun(l) => l.set_scene_sphere(c, r),
+            Light::Directional(l) => l.place(c, r),
+            Light::Constant(l) => l.place(c, r),
+            Light::EnvMap(l) => l.place(c, r),
+            Light::Sky(l) => l.place(c, r),
+            Light::Sun(l) => l.place(c, r),
             Light::Point(_) | Light::Area(_) => {}
         }
     }
@@ -170,7 +177,7 @@ impl Light {
             Light::Directional(l) => l.power(),
             Light::Constant(l) => l.power(),
             Light::EnvMap(l) => l.power(),
-            Light::Area(l) => l.power(shapes),
+            Light::Area(l) => l.shape_in(shapes).map_or(0.0, |s| l.power(s)),
             Light::Sky(l) => l.power(),
             Light::Sun(l) => l.power(),
         }

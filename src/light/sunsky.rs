@@ -61,6 +61,20 @@ use crate::plugin::{
     declare, Args, Check, DefaultValue, Param, SceneError, SpectrumKind, Ty, Warning,
 };
 
+/// A field of the local date, between `lo` and `hi`.
+const fn date(name: &'static str, default: i64, lo: i64, hi: i64) -> Param {
+    Param::int(name, default)
+        .check(Check::Range(lo as f64, hi as f64))
+        .doc("local date")
+}
+
+/// A field of the local clock time, from 0 to `hi`.
+const fn clock(name: &'static str, default: f32, hi: f64) -> Param {
+    Param::float(name, default)
+        .check(Check::Range(0.0, hi))
+        .doc("local clock time")
+}
+
 /// Where and when: shared by `sunsky`, `sun` and `sky`.
 const PLACE: &[Param] = &[
     Param::float("turbidity", 3.0)
@@ -81,24 +95,12 @@ const PLACE: &[Param] = &[
         .check(Check::Range(-14.0, 14.0))
         .unit("hours")
         .doc("offset of the local clock from UTC"),
-    Param::int("year", 2010)
-        .check(Check::Range(1000.0, 3000.0))
-        .doc("local date"),
-    Param::int("month", 7)
-        .check(Check::Range(1.0, 12.0))
-        .doc("local date"),
-    Param::int("day", 10)
-        .check(Check::Range(1.0, 31.0))
-        .doc("local date"),
-    Param::float("hour", 15.0)
-        .check(Check::Range(0.0, 24.0))
-        .doc("local clock time"),
-    Param::float("minute", 0.0)
-        .check(Check::Range(0.0, 60.0))
-        .doc("local clock time"),
-    Param::float("second", 0.0)
-        .check(Check::Range(0.0, 60.0))
-        .doc("local clock time"),
+    date("year", 2010, 1000, 3000),
+    date("month", 7, 1, 12),
+    date("day", 10, 1, 31),
+    clock("hour", 15.0, 24.0),
+    clock("minute", 0.0, 60.0),
+    clock("second", 0.0, 60.0),
     Param::new("to_world", Ty::Transform, DefaultValue::None)
         .doc("rotation from the sky's frame (+y up, −z north, +x east) to the world"),
     Param::new(
@@ -158,8 +160,8 @@ fn daylight(a: &mut Args, with_sun: bool, with_sky: bool) -> Result<Vec<Light>, 
             longitude: a.float("longitude")? as f64,
             time: DateTime {
                 year: a.int("year")? as i32,
-                month: a.int("month")? as u32,
-                day: a.int("day")? as u32,
+                month: a.u32("month")?,
+                day: a.u32("day")?,
                 hour: a.float("hour")? as f64,
                 minute: a.float("minute")? as f64,
                 second: a.float("second")? as f64,
@@ -202,8 +204,8 @@ fn daylight(a: &mut Args, with_sun: bool, with_sky: bool) -> Result<Vec<Light>, 
         ));
     }
     let mut lights = Vec::new();
-    lights.extend(parts.sun.map(Light::Sun));
-    lights.extend(parts.sky.map(Light::Sky));
+    lights.extend(parts.sun.map(|sun| Light::Sun(sun.into())));
+    lights.extend(parts.sky.map(|sky| Light::Sky(sky.into())));
     Ok(lights)
 }
 
@@ -288,6 +290,7 @@ pub(crate) use super::test_util;
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::light::infinite::InfiniteLight;
 
     #[test]
     fn time_and_place_put_the_morning_sun_in_the_east() {

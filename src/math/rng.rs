@@ -73,6 +73,16 @@ pub fn mix64(mut x: u64) -> u64 {
 }
 
 #[cfg(test)]
+/// Uniform f64s in [0, 1) with 53 random bits each, from a [`mix64`] chain started at `seed`:
+/// a stream for tests that need more precision than [`Pcg32::next_f32`].
+pub(crate) fn uniform_f64s(mut seed: u64) -> impl FnMut() -> f64 {
+    move || {
+        seed = mix64(seed);
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+#[cfg(test)]
 mod tests {
     use super::*;
 

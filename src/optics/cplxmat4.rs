@@ -13,7 +13,7 @@
 //!
 //! Same conventions and results as [`super::charmatrix`] (tested to 1e-12).
 
-use super::realmat4::{ExitLanes, Group, LayerLanes};
+use super::realmat4::{Group, Incidence, LayerLanes};
 use super::simd4::{csqrt_up, exp4, sincos4, unit, zip4, F4};
 
 /// A complex 2×2 matrix per lane, entries k = 0..4 ↦ [[0, 1], [2, 3]], times 2^e.
@@ -218,27 +218,14 @@ fn finish(m: &CM4, y0: &F4, y: &Z4, atten: &F4) -> (F4, F4) {
 /// (R_s, R_p, T_s, T_p) of any stack (see the module doc); arguments as
 /// [`super::realmat4::rt_real`].
 #[inline(always)]
-pub(crate) fn rt_complex(
-    layers: &[LayerLanes],
-    groups: &[Group],
-    rev: bool,
-    sigma2: &F4,
-    y0_s: &F4,
-    y0_p: &F4,
-    exit: &ExitLanes,
-) -> [F4; 4] {
+pub(crate) fn rt_complex(layers: &[LayerLanes], groups: &[Group], inc: &Incidence) -> [F4; 4] {
+    let (rev, sigma2, exit) = (inc.rev, &inc.sigma2, inc.exit);
     let (mut ms, mut mp) = (CM4::I, CM4::I);
     let mut im_delta = [0.0; 4];
     let n = groups.len();
     for k in 0..n {
-        let g = groups[if rev { n - 1 - k } else { k }];
-        let layer = |j: u32| {
-            &layers[(if rev {
-                g.start + g.len - 1 - j
-            } else {
-                g.start + j
-            }) as usize]
-        };
+        let g = Group::nth(groups, k, rev);
+        let layer = |j: u32| &layers[g.layer(j, rev)];
         if g.count == 1 {
             for j in 0..g.len {
                 let (e, di) = entries(layer(j), sigma2);
@@ -269,7 +256,7 @@ pub(crate) fn rt_complex(
     for i in 0..4 {
         (yp.0[i], yp.1[i]) = cmul((u[i], v[i]), (exit.inv_n2[i], exit.inv_n2_im[i]));
     }
-    let (r_s, t_s) = finish(&ms, y0_s, &(u, v), &atten);
-    let (r_p, t_p) = finish(&mp, y0_p, &yp, &atten);
+    let (r_s, t_s) = finish(&ms, &inc.y0_s, &(u, v), &atten);
+    let (r_p, t_p) = finish(&mp, &inc.y0_p, &yp, &atten);
     [r_s, r_p, t_s, t_p]
 }

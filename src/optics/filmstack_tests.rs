@@ -31,14 +31,7 @@ fn random_stack(rng: &mut Rng, n: usize, p_abs: f64, ext: f64, base: Ior) -> Fil
 }
 
 fn close(a: &FilmRt, b: &FilmRt, tol: f64) -> bool {
-    [
-        (a.r_s, b.r_s),
-        (a.r_p, b.r_p),
-        (a.t_s, b.t_s),
-        (a.t_p, b.t_p),
-    ]
-    .iter()
-    .all(|(x, y)| (x - y).abs() <= tol)
+    a.max_diff(b) <= tol
 }
 
 #[test]
@@ -75,14 +68,7 @@ fn one_layer_is_the_single_film_code_and_the_matrix_agrees_with_it() {
             "N = 1 must route to the Airy code"
         );
         let m = st.rt_matrix(cos, l, from_inside);
-        for (x, y) in [
-            (m.r_s, airy.r_s),
-            (m.r_p, airy.r_p),
-            (m.t_s, airy.t_s),
-            (m.t_p, airy.t_p),
-        ] {
-            worst = worst.max((x - y).abs());
-        }
+        worst = worst.max(m.max_diff(&airy));
     }
     assert!(worst < 1e-12, "matrix vs Airy: {worst:e}");
 }
@@ -364,14 +350,7 @@ fn fast_evaluator_equals_the_exact_path() {
         for (w, &l) in lambda.iter().enumerate() {
             let exact = scaled.rt(cos, l as f64, inside);
             let got = fast.lane(w);
-            for (x, y) in [
-                (got.r_s, exact.r_s),
-                (got.r_p, exact.r_p),
-                (got.t_s, exact.t_s),
-                (got.t_p, exact.t_p),
-            ] {
-                worst = worst.max((x - y).abs());
-            }
+            worst = worst.max(got.max_diff(&exact));
         }
         real_lanes += (st.layers().all(|l| l.ior.is_lossless())) as usize;
         // The f32 interface is the f64 result rounded.

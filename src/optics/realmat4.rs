@@ -47,6 +47,36 @@ pub(crate) struct Group {
     pub count: u32,
 }
 
+impl Group {
+    /// The `k`-th of `groups` in the order light meets them (`rev`: light from the base).
+    #[inline(always)]
+    pub(crate) fn nth(groups: &[Group], k: usize, rev: bool) -> Group {
+        groups[if rev { groups.len() - 1 - k } else { k }]
+    }
+
+    /// Index of the group's `j`-th layer in the order light meets them.
+    #[inline(always)]
+    pub(crate) fn layer(&self, j: u32, rev: bool) -> usize {
+        (if rev {
+            self.start + self.len - 1 - j
+        } else {
+            self.start + j
+        }) as usize
+    }
+}
+
+/// The light meeting a stack at four wavelengths: from which side (`rev`: from the base, so
+/// meeting the groups in reverse order), its tangential index squared σ², its incident
+/// admittances for s and p, and the medium it leaves by.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Incidence<'a> {
+    pub rev: bool,
+    pub sigma2: F4,
+    pub y0_s: F4,
+    pub y0_p: F4,
+    pub exit: &'a ExitLanes,
+}
+
 /// The exit medium at the four wavelengths: n² and 1/n².
 #[derive(Clone, Copy, Debug, Default)]
 pub(crate) struct ExitLanes {
@@ -188,31 +218,17 @@ fn entries(l: &LayerLanes, sigma2: &F4) -> Option<[F4; 5]> {
     Some(e)
 }
 
-/// (R_s, R_p, T_s, T_p) of the stack for incident admittances `y0_s`, `y0_p` and tangential
-/// index squared `sigma2`; groups in the order light meets them (`rev`: reversed, for light
-/// from the base). `None` if the wave does not propagate in some layer (use the complex path).
+/// (R_s, R_p, T_s, T_p) of the stack for the light `inc`. `None` if the wave does not
+/// propagate in some layer (use the complex path).
 #[inline(always)]
-pub(crate) fn rt_real(
-    layers: &[LayerLanes],
-    groups: &[Group],
-    rev: bool,
-    sigma2: &F4,
-    y0_s: &F4,
-    y0_p: &F4,
-    exit: &ExitLanes,
-) -> Option<[F4; 4]> {
+pub(crate) fn rt_real(layers: &[LayerLanes], groups: &[Group], inc: &Incidence) -> Option<[F4; 4]> {
+    let (rev, sigma2, exit) = (inc.rev, &inc.sigma2, inc.exit);
     let (mut ms, mut mp) = (RealM::I, RealM::I);
     let n = groups.len();
     let mut since_check = 0;
     for k in 0..n {
-        let g = groups[if rev { n - 1 - k } else { k }];
-        let layer = |j: u32| {
-            &layers[(if rev {
-                g.start + g.len - 1 - j
-            } else {
-                g.start + j
-            }) as usize]
-        };
+        let g = Group::nth(groups, k, rev);
+        let layer = |j: u32| &layers[g.layer(j, rev)];
         // Separate loops (rather than one loop writing through a reference chosen per group) keep
         // the lanes in vector registers.
         if g.count == 1 {
@@ -245,8 +261,8 @@ pub(crate) fn rt_real(
         // A transparent exit medium below its critical angle: real admittances.
         let u = x.map(f64::sqrt);
         let up = zip4(u, exit.inv_n2, |a, b| a * b);
-        (r_s, t_s) = finish(&ms, y0_s, &u, &[0.0; 4]);
-        (r_p, t_p) = finish(&mp, y0_p, &up, &[0.0; 4]);
+        (r_s, t_s) = finish(&ms, &inc.y0_s, &u, &[0.0; 4]);
+        (r_p, t_p) = finish(&mp, &inc.y0_p, &up, &[0.0; 4]);
     } else {
         let (u, v) = csqrt_up(x, exit.n2_im);
         let mut up = [0.0; 4];
@@ -255,8 +271,8 @@ pub(crate) fn rt_real(
             up[i] = u[i] * exit.inv_n2[i] - v[i] * exit.inv_n2_im[i];
             vp[i] = u[i] * exit.inv_n2_im[i] + v[i] * exit.inv_n2[i];
         }
-        (r_s, t_s) = finish(&ms, y0_s, &u, &v);
-        (r_p, t_p) = finish(&mp, y0_p, &up, &vp);
+        (r_s, t_s) = finish(&ms, &inc.y0_s, &u, &v);
+        (r_p, t_p) = finish(&mp, &inc.y0_p, &up, &vp);
     }
     Some([r_s, r_p, t_s, t_p])
 }

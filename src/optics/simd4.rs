@@ -178,11 +178,7 @@ mod tests {
 
     #[test]
     fn sincos_matches_the_c_library() {
-        let mut seed = 7u64;
-        let mut next = || {
-            seed = crate::math::rng::mix64(seed);
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut next = crate::math::rng::uniform_f64s(7);
         let mut worst: f64 = 0.0;
         for k in 0..200_000 {
             // Magnitudes from 1e-8 to 1e6 rad (past the limit, so the fallback is exercised too),

@@ -30,7 +30,7 @@
 
 use super::cplxmat4::rt_complex;
 use super::filmstack::FilmStack;
-use super::realmat4::{rt_real, ExitLanes, Group, LayerLanes};
+use super::realmat4::{rt_real, ExitLanes, Group, Incidence, LayerLanes};
 use super::simd4::{zip4, F4};
 use super::thinfilm::FilmRt;
 use num_complex::Complex64 as C;
@@ -249,17 +249,20 @@ impl StackEval {
             (self.ext, self.inv_ext, &self.exit_out)
         };
         let sin2 = 1.0 - cos * cos;
-        let sigma2 = n_inc.map(|n| n * n * sin2);
-        let y0_s = n_inc.map(|n| n * cos);
-        let y0_p = inv_inc.map(|v| v * cos);
+        let inc = Incidence {
+            rev: from_inside,
+            sigma2: n_inc.map(|n| n * n * sin2),
+            y0_s: n_inc.map(|n| n * cos),
+            y0_p: inv_inc.map(|v| v * cos),
+            exit,
+        };
         let (l, g) = (self.layers.as_slice(), self.groups.as_slice());
         let rt = if self.all_lossless {
-            rt_real(l, g, from_inside, &sigma2, &y0_s, &y0_p, exit)
+            rt_real(l, g, &inc)
         } else {
             None
         };
-        let [r_s, r_p, t_s, t_p] =
-            rt.unwrap_or_else(|| rt_complex(l, g, from_inside, &sigma2, &y0_s, &y0_p, exit));
+        let [r_s, r_p, t_s, t_p] = rt.unwrap_or_else(|| rt_complex(l, g, &inc));
         Rt4 { r_s, r_p, t_s, t_p }
     }
 }

@@ -219,6 +219,11 @@ impl<'a> Args<'a> {
         self.given(name, self.float_opt(name)?)
     }
 
+    /// An angle declared by [`Param::angle`](super::Param::angle), in radians.
+    pub fn angle(&self, name: &str) -> Result<f32, SceneError> {
+        Ok(self.float(name)?.to_radians())
+    }
+
     /// An integer, or `None` when absent without a default.
     pub(crate) fn int_opt(&self, name: &str) -> Result<Option<i64>, SceneError> {
         let p = self.param(name)?;
@@ -235,6 +240,13 @@ impl<'a> Args<'a> {
     /// An integer with a declared default.
     pub fn int(&self, name: &str) -> Result<i64, SceneError> {
         self.given(name, self.int_opt(name)?)
+    }
+
+    /// An integer declared by [`Param::u32`](super::Param::u32) (or in a narrower range).
+    pub fn u32(&self, name: &str) -> Result<u32, SceneError> {
+        let v = self.int(name)?;
+        u32::try_from(v)
+            .map_err(|_| self.error(name, format!("must be between 0 and {}, got {v}", u32::MAX)))
     }
 
     /// A boolean (declared default when absent).
@@ -291,6 +303,21 @@ impl<'a> Args<'a> {
             Some(n) => self.node.props.get_transform(&n, Transform::IDENTITY),
             None => Ok(Transform::IDENTITY),
         }
+    }
+
+    /// A point (a vector is accepted too); the declared default when absent.
+    pub fn point(&self, name: &str) -> Result<Vec3, SceneError> {
+        let p = self.param(name)?;
+        let v = match self.present(p, name)? {
+            Some(n) => self.node.props.get_point_opt(&n)?,
+            None => self
+                .declared(p, name, |d| match d {
+                    DefaultValue::Point(v) => Some(Vec3::from(v)),
+                    _ => None,
+                })?
+                .map(|(v, _)| v),
+        };
+        self.given(name, v)
     }
 
     /// A point (a vector is accepted too), or `None` if absent.

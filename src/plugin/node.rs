@@ -91,18 +91,34 @@ impl fmt::Display for Tag {
     }
 }
 
-/// A scene object: `<bsdf type="diffuse" id="red">…</bsdf>`.
+/// A scene object: `<bsdf type="diffuse" id="red">…</bsdf>`. While the scene is being read its
+/// children are references not yet resolved (`C`, the reader's own type); once linked, they
+/// are [`Child`]ren.
 #[derive(Debug)]
-pub struct Node {
+pub struct Node<C = Child> {
     pub tag: Tag,
     /// The `type` attribute (`"scene"` for the root).
     pub plugin: String,
     pub id: Option<String>,
     pub props: Properties,
     /// Nested objects and resolved `<ref>`s, in document order.
-    pub children: Vec<Child>,
+    pub children: Vec<C>,
     /// Where the element starts.
     pub loc: Location,
+}
+
+impl<C> Node<C> {
+    /// The same object with each child turned into `f` of it.
+    pub(crate) fn map_children<D>(self, f: impl FnMut(C) -> D) -> Node<D> {
+        Node {
+            tag: self.tag,
+            plugin: self.plugin,
+            id: self.id,
+            props: self.props,
+            children: self.children.into_iter().map(f).collect(),
+            loc: self.loc,
+        }
+    }
 }
 
 /// A nested object of a [`Node`], or a resolved `<ref>`.

@@ -67,6 +67,8 @@ pub enum DefaultValue {
     Float(f32),
     Int(i64),
     Bool(bool),
+    /// A point, (x, y, z).
+    Point([f32; 3]),
     /// A string, or the name of an index of refraction for [`Ty::Ior`].
     Str(&'static str),
     /// Documented only: the value follows from other parameters (e.g. "`alpha`").
@@ -82,6 +84,7 @@ impl DefaultValue {
             DefaultValue::Float(v) => format_float(*v),
             DefaultValue::Int(v) => v.to_string(),
             DefaultValue::Bool(v) => v.to_string(),
+            DefaultValue::Point([x, y, z]) => format!("({x}, {y}, {z})"),
             DefaultValue::Str(s) => format!("`{s}`"),
             DefaultValue::Derived(s) => (*s).into(),
         }
@@ -185,15 +188,28 @@ impl Param {
     pub const fn float(name: &'static str, default: f32) -> Param {
         Param::new(name, Ty::Float, DefaultValue::Float(default))
     }
-    /// A point in the shape's own coordinates; `default` says where it is when absent.
-    pub const fn object_point(name: &'static str, default: &'static str) -> Param {
-        Param::new(name, Ty::Point, DefaultValue::Derived(default)).unit("object space")
+    /// A point in the shape's own coordinates, with a default; read by
+    /// [`Args::point`](super::Args::point).
+    pub const fn object_point(name: &'static str, default: [f32; 3]) -> Param {
+        Param::new(name, Ty::Point, DefaultValue::Point(default)).unit("object space")
     }
     /// A positive distance in world units, with a default.
     pub const fn length(name: &'static str, default: f32) -> Param {
         Param::float(name, default)
             .check(Check::Positive)
             .unit("world units")
+    }
+    /// An angle written in degrees, with a default (degrees); read in radians by
+    /// [`Args::angle`](super::Args::angle).
+    pub const fn angle(name: &'static str, default: f32) -> Param {
+        Param::float(name, default).unit("degrees")
+    }
+    /// A float in (0, `hi`], in `unit` (world units, pixels, or a fraction of something: the
+    /// unit says of what), with a default.
+    pub const fn up_to(name: &'static str, default: f32, hi: f64, unit: &'static str) -> Param {
+        Param::float(name, default)
+            .check(Check::OpenClosed(0.0, hi))
+            .unit(unit)
     }
     /// A fraction in [0, 1], with a default.
     pub const fn fraction(name: &'static str, default: f32) -> Param {
@@ -202,6 +218,11 @@ impl Param {
     /// An integer with a default.
     pub const fn int(name: &'static str, default: i64) -> Param {
         Param::new(name, Ty::Integer, DefaultValue::Int(default))
+    }
+    /// An integer between 0 and 2³² − 1 (a seed, an index), with a default; read by
+    /// [`Args::u32`](super::Args::u32).
+    pub const fn u32(name: &'static str, default: u32) -> Param {
+        Param::int(name, default as i64).check(Check::Range(0.0, u32::MAX as f64))
     }
     /// A boolean with a default.
     pub const fn bool(name: &'static str, default: bool) -> Param {

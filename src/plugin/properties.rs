@@ -254,12 +254,6 @@ impl Properties {
         })
     }
 
-    #[cfg(test)]
-    /// An integer, or `default` if absent.
-    pub(crate) fn get_int(&self, name: &str, default: i64) -> Result<i64, SceneError> {
-        Ok(self.get_int_opt(name)?.unwrap_or(default))
-    }
-
     /// A boolean, or `None` if absent.
     pub(crate) fn get_bool_opt(&self, name: &str) -> Result<Option<bool>, SceneError> {
         self.typed(name, "a boolean", |v| match *v {
@@ -268,26 +262,12 @@ impl Properties {
         })
     }
 
-    #[cfg(test)]
-    /// A boolean, or `default` if absent.
-    pub(crate) fn get_bool(&self, name: &str, default: bool) -> Result<bool, SceneError> {
-        Ok(self.get_bool_opt(name)?.unwrap_or(default))
-    }
-
     /// A string, or `None` if absent.
     pub(crate) fn get_string_opt(&self, name: &str) -> Result<Option<String>, SceneError> {
         self.typed(name, "a string", |v| match v {
             Value::String(s) => Some(s.clone()),
             _ => None,
         })
-    }
-
-    #[cfg(test)]
-    /// A string, or `default` if absent.
-    pub(crate) fn get_string(&self, name: &str, default: &str) -> Result<String, SceneError> {
-        Ok(self
-            .get_string_opt(name)?
-            .unwrap_or_else(|| default.to_string()))
     }
 
     /// A string naming a file, looked up as Mitsuba 3 does: in the scene's `<path>` folders,
@@ -313,12 +293,6 @@ impl Properties {
     /// A point (a `<vector>` is accepted too, as in Mitsuba 3), or `None` if absent.
     pub(crate) fn get_point_opt(&self, name: &str) -> Result<Option<Vec3>, SceneError> {
         self.get_vec3_opt(name, "a point")
-    }
-
-    #[cfg(test)]
-    /// A point, or `default` if absent.
-    pub(crate) fn get_point(&self, name: &str, default: Vec3) -> Result<Vec3, SceneError> {
-        Ok(self.get_point_opt(name)?.unwrap_or(default))
     }
 
     /// A vector (a `<point>` is accepted too, as in Mitsuba 3), or `None` if absent.
@@ -392,7 +366,7 @@ mod tests {
         assert_eq!(p.get_float("count", 1.0).unwrap(), 7.0);
         assert_eq!(p.get_float("missing", 1.5).unwrap(), 1.5);
         assert_eq!(p.get_int_opt("missing").unwrap(), None);
-        assert!(p.get_bool("flip", false).unwrap());
+        assert_eq!(p.get_bool_opt("flip").unwrap(), Some(true));
         assert_eq!(
             p.get_vector_opt("center").unwrap().unwrap(),
             Vec3::new(1.0, 2.0, 3.0)
@@ -409,12 +383,12 @@ mod tests {
     #[test]
     fn wrong_type_names_parameter_and_location() {
         let p = bag();
-        let e = p.get_int("radius", 0).unwrap_err().to_string();
+        let e = p.get_int_opt("radius").unwrap_err().to_string();
         assert_eq!(
             e,
             "t.xml:1:3: parameter 'radius' of shape 'sphere' is a float, expected an integer"
         );
-        assert!(p.get_string("count", "").is_err());
+        assert!(p.get_string_opt("count").is_err());
     }
 
     #[test]

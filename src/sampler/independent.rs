@@ -41,7 +41,7 @@ fn load(a: &mut Args, _: ()) -> Result<SamplerSettings, SceneError> {
 pub(super) fn settings(a: &Args, kind: SamplerKind) -> Result<SamplerSettings, SceneError> {
     Ok(SamplerSettings {
         kind,
-        spp: a.int("sample_count")? as u32,
+        spp: a.u32("sample_count")?,
         seed: a.int("seed")? as u64,
     })
 }

@@ -7,7 +7,7 @@
 //! | `to_world` | transform | — | — | object-to-world transform (after an `instance`'s own) |
 //! | `flip_normals` | boolean | false | — | turn the normals the other way (an area light then emits from the other side) |
 
-use super::{Parts, Shape, TriangleMesh};
+use super::{Parts, TriangleMesh};
 use crate::math::Transform;
 use crate::plugin::{declare, Args, SceneError};
 
@@ -16,6 +16,5 @@ declare!(PLUGIN: Parts, Transform = Shape "cube" []
     [super::PLACEMENT] load);
 
 fn load(a: &mut Args, parent: Transform) -> Result<Parts, SceneError> {
-    let (to_world, flip) = super::placement(a, &parent)?;
-    super::one(a, TriangleMesh::cube(&to_world, flip).map(Shape::Mesh))
+    super::primitives::load(a, &parent, TriangleMesh::cube)
 }

@@ -35,17 +35,17 @@ use glam::{DVec2, DVec3};
 declare!(PLUGIN: super::Parts, Transform = Shape "cylinder" []
     "analytic cylinder side, open at both ends"
     [&[
-        Param::object_point("p0", "(0, 0, 0)")
+        Param::object_point("p0", [0.0, 0.0, 0.0])
             .doc("start of the axis"),
-        Param::object_point("p1", "(0, 0, 1)")
+        Param::object_point("p1", [0.0, 0.0, 1.0])
             .doc("end of the axis"),
         super::RADIUS,
     ], super::PLACEMENT] load);
 
 fn load(a: &mut Args, parent: Transform) -> Result<super::Parts, SceneError> {
     let (to_world, flip) = super::placement(a, &parent)?;
-    let p0 = a.point_opt("p0")?.unwrap_or(Vec3::ZERO);
-    let p1 = a.point_opt("p1")?.unwrap_or(Vec3::Z);
+    let p0 = a.point("p0")?;
+    let p1 = a.point("p1")?;
     let radius = a.float("radius")?;
     super::one(
         a,
@@ -149,14 +149,7 @@ impl Cylinder {
         // b² − ac as a·(1 − |f − (b/a) g|²): no cancellation for distant origins.
         let l = f - (b / a) * g;
         let disc = a * (1.0 - l.length_squared());
-        if disc < 0.0 {
-            return None;
-        }
-        let q = -(b + disc.sqrt().copysign(b));
-        let (mut t0, mut t1) = if q == 0.0 { (0.0, 0.0) } else { (c / q, q / a) };
-        if t0 > t1 {
-            std::mem::swap(&mut t0, &mut t1);
-        }
+        let (t0, t1) = super::quadratic_roots(a, b, c, disc)?;
         let t_max = ray.t_max as f64;
         [t0, t1]
             .into_iter()

@@ -1,5 +1,7 @@
 use super::*;
 use crate::math::{warp, Pcg32};
+use crate::shape::test_util::subtended_solid_angle;
+use crate::shape::Shape;
 
 /// The cylinder from `p0` to `p1` of `radius`, placed by `to_world`, normals outwards.
 fn cylinder(p0: [f32; 3], p1: [f32; 3], radius: f32, to_world: &Transform) -> Cylinder {
@@ -147,17 +149,8 @@ fn area_sampling_density_integrates_the_seen_solid_angle() {
     }
     quad *= c.area() as f64 / (nphi * nz) as f64;
     let mut rng = Pcg32::new(8, 1);
-    let n = 200_000;
-    let (mut s, mut s2) = (0.0f64, 0.0f64);
-    for _ in 0..n {
-        let smp = c.sample_direct(r, rng.next_vec2()).unwrap();
-        assert!((c.pdf_direct(r, smp.p, smp.n) - smp.pdf).abs() <= 1e-5 * smp.pdf);
-        let x = 1.0 / smp.pdf as f64;
-        s += x;
-        s2 += x * x;
-    }
-    let mean = s / n as f64;
-    let sigma = ((s2 / n as f64 - mean * mean) / n as f64).sqrt();
+    let c = Shape::Cylinder(c);
+    let (mean, sigma) = subtended_solid_angle(&c, r, &mut rng, (200_000, 1e-5), |_| ());
     assert!(
         (mean - quad).abs() < 4.0 * sigma,
         "{mean} ± {sigma} vs {quad}"

@@ -156,6 +156,8 @@ impl Disk {
 mod tests {
     use super::*;
     use crate::math::Pcg32;
+    use crate::shape::test_util::subtended_solid_angle;
+    use crate::shape::Shape;
 
     #[test]
     fn hits_inside_the_rim_only_with_mitsuba_uv() {
@@ -199,19 +201,11 @@ mod tests {
         let d = Disk::new(&t, false);
         let r = Vec3::new(0.0, 0.0, h);
         let mut rng = Pcg32::new(17, 2);
-        let n = 200_000;
-        let (mut s1, mut s2) = (0.0f64, 0.0f64);
-        for _ in 0..n {
-            let smp = d.sample_direct(r, rng.next_vec2()).unwrap();
+        let on_disk = |smp: &ShapeSample| {
             assert!(smp.p.z.abs() < 1e-6 && smp.p.truncate().length() <= rad * (1.0 + 1e-6));
-            let pdf = d.pdf_direct(r, smp.p, smp.n);
-            assert!((pdf - smp.pdf).abs() <= 1e-5 * pdf);
-            let x = 1.0 / smp.pdf as f64;
-            s1 += x;
-            s2 += x * x;
-        }
-        let mean = s1 / n as f64;
-        let sigma = ((s2 / n as f64 - mean * mean) / n as f64).sqrt();
+        };
+        let d = Shape::Disk(d);
+        let (mean, sigma) = subtended_solid_angle(&d, r, &mut rng, (200_000, 1e-5), on_disk);
         let (rad, h) = (rad as f64, h as f64);
         let want = 2.0 * std::f64::consts::PI * (1.0 - h / (h * h + rad * rad).sqrt());
         assert!(

@@ -48,9 +48,7 @@ declare!(PLUGIN: super::Parts, Transform = Shape "litter" []
             .check(Check::ClosedOpen(0.0, 1.0))
             .unit("of `size`")
             .doc("relative spread of the lengths"),
-        Param::float("width", 0.5)
-            .check(Check::OpenClosed(0.0, 2.0))
-            .unit("of length")
+        Param::up_to("width", 0.5, 2.0, "of length")
             .doc("leaf width"),
         Param::fraction("curl", 0.25)
             .unit("of half-width")
@@ -66,15 +64,13 @@ declare!(PLUGIN: super::Parts, Transform = Shape "litter" []
             .check(Check::ClosedOpen(0.0, 1e6))
             .unit("world units")
             .doc("no leaf centred within this of the origin (room for a coiled snake)"),
-        Param::int("seed", 0)
-            .check(Check::Range(0.0, 4294967295.0))
-            .doc("changes the layout"),
+        Param::u32("seed", 0).doc("changes the layout"),
     ], super::PLACEMENT] load);
 
 fn load(a: &mut Args, parent: Transform) -> Result<super::Parts, SceneError> {
     let (to_world, flip) = super::placement(a, &parent)?;
     let p = LitterParams {
-        count: a.int("count")? as u32,
+        count: a.u32("count")?,
         size: a.float("size")?,
         size_spread: a.float("size_spread")?,
         width: a.float("width")?,
@@ -83,7 +79,7 @@ fn load(a: &mut Args, parent: Transform) -> Result<super::Parts, SceneError> {
         lift: a.float("lift")?,
         extent: a.float("extent")?,
         clear: a.float("clear")?,
-        seed: a.int("seed")? as u32,
+        seed: a.u32("seed")?,
     };
     let g = litter(&p);
     let mesh = super::TriangleMesh::new(

@@ -196,6 +196,11 @@ pub(crate) const MESH_FILE: &[Param] = &[
         .doc("flat shading: ignore the file's normals and do not smooth"),
 ];
 
+/// `flip_tex_coords` of the OBJ and PLY plugins, with the default Mitsuba 3 gives each.
+pub(crate) const fn flip_tex_coords(default: bool) -> Param {
+    Param::bool("flip_tex_coords", default).doc("v ↦ 1 − v (Mitsuba 3 flips OBJ's, not PLY's)")
+}
+
 /// The mesh files a plugin reads.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum MeshFile {
@@ -225,9 +230,7 @@ pub(crate) fn mesh_file(
         MeshFile::Obj => super::obj::read_obj(&path),
         MeshFile::Ply => super::ply::read_ply(&path),
         // Mesh `shape_index` of the file.
-        MeshFile::Serialized => {
-            super::serialized::read_serialized(&path, a.int("shape_index")? as u32)
-        }
+        MeshFile::Serialized => super::serialized::read_serialized(&path, a.u32("shape_index")?),
     };
     let mesh = data.and_then(|d| TriangleMesh::from_data(d, &path, &to_world, &opts));
     let mesh = match mesh {

@@ -84,24 +84,17 @@ impl TriangleMesh {
         face_normals: bool,
     ) -> Result<TriangleMesh, MeshError> {
         let nv = positions.len();
-        if let Some(n) = &normals {
-            if n.len() != nv {
-                return Err(MeshError::AttributeLength {
-                    attribute: "normals",
-                    got: n.len(),
-                    vertices: nv,
-                });
-            }
-        }
-        if let Some(uv) = &uvs {
-            if uv.len() != nv {
-                return Err(MeshError::AttributeLength {
-                    attribute: "uvs",
-                    got: uv.len(),
-                    vertices: nv,
-                });
-            }
-        }
+        // An attribute, when given, has one value per vertex.
+        let per_vertex = |attribute, got: Option<usize>| match got {
+            Some(got) if got != nv => Err(MeshError::AttributeLength {
+                attribute,
+                got,
+                vertices: nv,
+            }),
+            _ => Ok(()),
+        };
+        per_vertex("normals", normals.as_ref().map(Vec::len))?;
+        per_vertex("uvs", uvs.as_ref().map(Vec::len))?;
         for (i, tri) in indices.iter().enumerate() {
             if let Some(&index) = tri.iter().find(|&&k| k as usize >= nv) {
                 return Err(MeshError::IndexOutOfRange {

@@ -1,5 +1,7 @@
 use super::*;
 use crate::math::{Pcg32, PI};
+use crate::shape::test_util::subtended_solid_angle;
+use crate::shape::Shape;
 
 fn hit_prim(m: &TriangleMesh, ray: &Ray) -> Option<SurfaceInteraction> {
     let mut best: Option<Hit> = None;
@@ -224,12 +226,8 @@ fn sampling_integrates_to_the_rectangle_solid_angle() {
     let m = TriangleMesh::rectangle(&t, false).unwrap();
     let r = Vec3::new(0.0, 0.0, d as f32);
     let mut rng = Pcg32::new(12, 1);
-    let (mean, sigma) = crate::shape::test_util::mean_and_error(200_000, || {
-        let s = m.sample_direct(r, rng.next_vec2()).unwrap();
-        let pdf = m.pdf_direct(r, s.p, s.n);
-        assert!((pdf - s.pdf).abs() <= 1e-5 * pdf);
-        1.0 / s.pdf as f64
-    });
+    let m = Shape::Mesh(m);
+    let (mean, sigma) = subtended_solid_angle(&m, r, &mut rng, (200_000, 1e-5), |_| ());
     let want = 4.0 * (a * b / ((a * a + d * d) * (b * b + d * d)).sqrt()).asin();
     assert!(
         (mean - want).abs() < 4.0 * sigma,

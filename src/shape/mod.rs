@@ -215,6 +215,22 @@ pub(crate) fn positive_finite(x: f32) -> bool {
     x > 0.0 && x.is_finite()
 }
 
+/// The roots t0 ≤ t1 of a t² + 2b t + c = 0 (a > 0), given its discriminant b² − ac as the
+/// caller computed it (each quadric in a form without cancellation for distant rays), by the
+/// formula that keeps both roots accurate; `None` when they are not real.
+#[inline]
+pub(crate) fn quadratic_roots(a: f64, b: f64, c: f64, disc: f64) -> Option<(f64, f64)> {
+    if disc < 0.0 {
+        return None;
+    }
+    let q = -(b + disc.sqrt().copysign(b));
+    let (mut t0, mut t1) = if q == 0.0 { (0.0, 0.0) } else { (c / q, q / a) };
+    if t0 > t1 {
+        std::mem::swap(&mut t0, &mut t1);
+    }
+    Some((t0, t1))
+}
+
 /// The shapes one `<shape>` element makes, each with the name of its part (`None` for a
 /// plain shape; a `snake` names its `body`, `belly`, `head` and `eyes`), or none at all.
 pub(crate) type Parts = Vec<(Option<&'static str>, Shape)>;

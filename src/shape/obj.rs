@@ -21,15 +21,14 @@
 //! dropped for the whole mesh (flat shading), and corners without a `vt` get uv (0, 0).
 use super::load::{read_file, LoadError, MeshData};
 use crate::math::{Vec2, Vec3};
-use crate::plugin::{declare, Args, Param, SceneError};
+use crate::plugin::{declare, Args, SceneError};
 use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hasher};
 use std::path::Path;
 
 declare!(PLUGIN: super::Parts, crate::math::Transform = Shape "obj" []
     "Wavefront OBJ triangle mesh"
-    [super::load::MESH_FILE, &[Param::bool("flip_tex_coords", true)
-        .doc("v ↦ 1 − v (Mitsuba 3 flips OBJ's, not PLY's)")], super::PLACEMENT] load);
+    [super::load::MESH_FILE, &[super::load::flip_tex_coords(true)], super::PLACEMENT] load);
 
 fn load(a: &mut Args, parent: crate::math::Transform) -> Result<super::Parts, SceneError> {
     super::load::mesh_file(a, &parent, super::load::MeshFile::Obj)

@@ -25,13 +25,12 @@
 //! elements are ignored.
 use super::load::{read_file, LoadError, MeshData};
 use crate::math::{Vec2, Vec3};
-use crate::plugin::{declare, Args, Param, SceneError};
+use crate::plugin::{declare, Args, SceneError};
 use std::path::{Path, PathBuf};
 
 declare!(PLUGIN: super::Parts, crate::math::Transform = Shape "ply" []
     "Stanford PLY triangle mesh (ASCII or binary)"
-    [super::load::MESH_FILE, &[Param::bool("flip_tex_coords", false)
-        .doc("v ↦ 1 − v (Mitsuba 3 flips OBJ's, not PLY's)")], super::PLACEMENT] load);
+    [super::load::MESH_FILE, &[super::load::flip_tex_coords(false)], super::PLACEMENT] load);
 
 fn load(a: &mut Args, parent: crate::math::Transform) -> Result<super::Parts, SceneError> {
     super::load::mesh_file(a, &parent, super::load::MeshFile::Ply)

@@ -162,46 +162,34 @@ fn truncated_and_garbage_binary_give_errors() {
 
 #[test]
 fn header_and_data_errors_name_file_and_line() {
-    let e = err("garbage.ply", b"\x00\x01binary junk");
-    assert!(
-        e.contains("garbage.ply:1:") && e.contains("not a PLY"),
-        "{e}"
-    );
-    let e = err(
-        "type.ply",
-        b"ply\nformat ascii 1.0\nelement vertex 1\nproperty flot x\nend_header\n",
-    );
-    assert!(
-        e.contains("type.ply:4:") && e.contains("unknown property type"),
-        "{e}"
-    );
-    let e = err("nohdr.ply", b"ply\nformat ascii 1.0\nelement vertex 1\n");
-    assert!(e.contains("nohdr.ply") && e.contains("end_header"), "{e}");
     let head = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
                 property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
-    let e = err(
-        "num.ply",
-        format!("{head}0 0 0\n1 0 0\n0 1 zero\n3 0 1 2\n").as_bytes(),
-    );
-    assert!(e.contains("num.ply:12:") && e.contains("`zero`"), "{e}");
-    let e = err(
-        "idx.ply",
-        format!("{head}0 0 0\n1 0 0\n0 1 0\n3 0 1 9\n").as_bytes(),
-    );
-    assert!(
-        e.contains("idx.ply:13:") && e.contains("out of range"),
-        "{e}"
-    );
-    let e = err("noface.ply", b"ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 0\n");
-    assert!(e.contains("noface.ply") && e.contains("no faces"), "{e}");
-    let e = err(
-        "noxyz.ply",
-        b"ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nend_header\n0\n",
-    );
-    assert!(
-        e.contains("noxyz.ply:3:") && e.contains("x, y and z"),
-        "{e}"
-    );
+    let typo = b"ply\nformat ascii 1.0\nelement vertex 1\nproperty flot x\nend_header\n";
+    let no_end = b"ply\nformat ascii 1.0\nelement vertex 1\n";
+    let nan = format!("{head}0 0 0\n1 0 0\n0 1 zero\n3 0 1 2\n");
+    let index = format!("{head}0 0 0\n1 0 0\n0 1 0\n3 0 1 9\n");
+    let no_face = b"ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n\
+                    property float z\nend_header\n0 0 0\n";
+    let no_xyz = b"ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nend_header\n0\n";
+    // The file, its bytes, and what the error must contain: where and what.
+    let cases: [(&str, &[u8], &str, &str); 7] = [
+        (
+            "garbage.ply",
+            b"\x00\x01binary junk",
+            "garbage.ply:1:",
+            "not a PLY",
+        ),
+        ("type.ply", typo, "type.ply:4:", "unknown property type"),
+        ("nohdr.ply", no_end, "nohdr.ply", "end_header"),
+        ("num.ply", nan.as_bytes(), "num.ply:12:", "`zero`"),
+        ("idx.ply", index.as_bytes(), "idx.ply:13:", "out of range"),
+        ("noface.ply", no_face, "noface.ply", "no faces"),
+        ("noxyz.ply", no_xyz, "noxyz.ply:3:", "x, y and z"),
+    ];
+    for (name, bytes, at, says) in cases {
+        let e = err(name, bytes);
+        assert!(e.contains(at) && e.contains(says), "{e}");
+    }
     let dir = temp_dir("ply");
     assert!(read_ply(&dir)
         .unwrap_err()
@@ -237,16 +225,20 @@ fn random_mesh(
              property list uchar {it} vertex_indices\nend_header\n"
         )
     };
+    // Floats and indices are both 4 bytes wide.
+    let word = |w: u32| {
+        if big {
+            w.to_be_bytes()
+        } else {
+            w.to_le_bytes()
+        }
+    };
     let mut b = head(fmt, index_ty).into_bytes();
     let mut a = head("ascii", index_ty);
     for _ in 0..nv {
         for _ in 0..8 {
             let x = rng.next_f32() * 4.0 - 2.0;
-            b.extend(if big {
-                x.to_be_bytes()
-            } else {
-                x.to_le_bytes()
-            });
+            b.extend(word(x.to_bits()));
             a.push_str(&format!("{x:?} "));
         }
         a.push('\n');
@@ -257,11 +249,7 @@ fn random_mesh(
         a.push_str(&format!("{n}"));
         for _ in 0..n {
             let i = rng.next_u32() % nv as u32;
-            b.extend(if big {
-                i.to_be_bytes()
-            } else {
-                i.to_le_bytes()
-            });
+            b.extend(word(i));
             a.push_str(&format!(" {i}"));
         }
         a.push('\n');

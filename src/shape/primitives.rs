@@ -8,7 +8,19 @@
 //! Limits: Mitsuba 3's rectangle is analytic; as a two-triangle mesh its interior diagonal is an
 //! edge, which only matters for code that looks at the primitive index.
 use super::mesh::{MeshError, TriangleMesh};
+use super::{Parts, Shape};
 use crate::math::{Transform, Vec2, Vec3};
+use crate::plugin::{Args, SceneError};
+
+/// The loader of the fixed meshes (`rectangle`, `cube`): `mesh` built at the shape's placement.
+pub(crate) fn load(
+    a: &mut Args,
+    parent: &Transform,
+    mesh: fn(&Transform, bool) -> Result<TriangleMesh, MeshError>,
+) -> Result<Parts, SceneError> {
+    let (to_world, flip) = super::placement(a, parent)?;
+    super::one(a, mesh(&to_world, flip).map(Shape::Mesh))
+}
 
 impl TriangleMesh {
     /// Mitsuba's `rectangle`.

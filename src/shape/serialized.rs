@@ -32,16 +32,14 @@
 
 use super::load::{read_file, LoadError, MeshData};
 use crate::math::{Vec2, Vec3};
-use crate::plugin::{declare, Args, Check, Param, SceneError};
+use crate::plugin::{declare, Args, Param, SceneError};
 use flate2::read::ZlibDecoder;
 use std::io::Read;
 use std::path::Path;
 
 declare!(PLUGIN: super::Parts, crate::math::Transform = Shape "serialized" []
     "a mesh of Mitsuba's compressed format (versions 3 and 4)"
-    [super::load::MESH_FILE, &[Param::int("shape_index", 0)
-        .check(Check::Range(0.0, 4294967295.0))
-        .doc("which mesh of the file")], super::PLACEMENT] load);
+    [super::load::MESH_FILE, &[Param::u32("shape_index", 0).doc("which mesh of the file")], super::PLACEMENT] load);
 
 fn load(a: &mut Args, parent: crate::math::Transform) -> Result<super::Parts, SceneError> {
     super::load::mesh_file(a, &parent, super::load::MeshFile::Serialized)

@@ -108,13 +108,6 @@ pub(crate) use crate::texture::head_shields::{EYE_OFFSET, EYE_V};
 #[cfg(test)]
 use std::collections::HashMap;
 
-/// A fraction in (0, hi] of something (the manual's unit says of what).
-const fn part(name: &'static str, default: f32, hi: f64, unit: &'static str) -> Param {
-    Param::float(name, default)
-        .check(Check::OpenClosed(0.0, hi))
-        .unit(unit)
-}
-
 declare!(PLUGIN: super::Parts, Transform = Shape "snake" []
     "a procedural sunbeam snake on the ground, one mesh per part (body, belly, head, eyes)"
     [&[
@@ -129,34 +122,32 @@ declare!(PLUGIN: super::Parts, Transform = Shape "snake" []
         Param::float("amplitude", 0.45)
             .unit("world units")
             .doc("`s_curve`: sideways swing"),
-        Param::float("phase", 0.0)
-            .unit("degrees")
+        Param::angle("phase", 0.0)
             .doc("`s_curve`: phase at the snout; `coil`: rotation"),
-        part("coil_radius", 2.0, 1e3, "of `radius`").doc("`coil`: radius of the innermost turn"),
-        part("coil_spacing", 1.12, 1e3, "of 2·`radius`").doc("`coil`: distance between turns"),
-        part("head_length", 0.035, 0.15, "of length").doc("snout to the back of the head"),
-        part("head_width", 0.78, 2.0, "of radius").doc("half-width at the jaw joint"),
-        part("head_height", 0.6, 1.0, "of width").doc("height of the head over its width"),
-        part("snout", 0.3, 1.0, "of head").doc("length over which the snout is rounded"),
+        Param::up_to("coil_radius", 2.0, 1e3, "of `radius`").doc("`coil`: radius of the innermost turn"),
+        Param::up_to("coil_spacing", 1.12, 1e3, "of 2·`radius`").doc("`coil`: distance between turns"),
+        Param::up_to("head_length", 0.035, 0.15, "of length").doc("snout to the back of the head"),
+        Param::up_to("head_width", 0.78, 2.0, "of radius").doc("half-width at the jaw joint"),
+        Param::up_to("head_height", 0.6, 1.0, "of width").doc("height of the head over its width"),
+        Param::up_to("snout", 0.3, 1.0, "of head").doc("length over which the snout is rounded"),
         Param::new("neck", Ty::Float, DefaultValue::Derived("0.74, at most `head_width`"))
             .check(Check::OpenClosed(0.0, 1.0))
             .unit("of radius")
             .doc("half-width of the neck (at most `head_width`)"),
-        part("tail_length", 0.1, 0.5, "of length").doc("vent to the tail tip"),
+        Param::up_to("tail_length", 0.1, 0.5, "of length").doc("vent to the tail tip"),
         Param::float("flatten", 0.25)
             .check(Check::ClosedOpen(0.0, 0.9))
             .doc("belly height deficit (0 = round)"),
-        part("belly_width", 0.22, 0.5, "of perimeter").doc("width of the ventral plates' band"),
+        Param::up_to("belly_width", 0.22, 0.5, "of perimeter").doc("width of the ventral plates' band"),
         Param::bool("eyes", true).doc("add the eyes"),
-        part("eye_size", 0.12, 0.5, "of head half-width").doc("eye radius"),
-        Param::float("roll", 0.0)
+        Param::up_to("eye_size", 0.12, 0.5, "of head half-width").doc("eye radius"),
+        Param::angle("roll", 0.0)
             .check(Check::Range(-180.0, 180.0))
-            .unit("degrees")
             .doc("turn a stretch of the body about its centreline (shows the belly)"),
         Param::fraction("roll_at", 0.5)
             .unit("of length")
             .doc("centre of the rolled stretch"),
-        part("roll_span", 0.25, 1.0, "of length")
+        Param::up_to("roll_span", 0.25, 1.0, "of length")
             .doc("its length (eased in and out over its outer quarters)"),
         Param::int("segments_along", 800)
             .check(Check::Range(16.0, 100_000.0))
@@ -184,7 +175,7 @@ fn load(a: &mut Args, parent: Transform) -> Result<super::Parts, SceneError> {
         radius: a.float("radius")?,
         waves: a.float("waves")?,
         amplitude: a.float("amplitude")?,
-        phase: a.float("phase")?.to_radians(),
+        phase: a.angle("phase")?,
         coil_radius: a.float("coil_radius")?,
         coil_spacing: a.float("coil_spacing")?,
         head_length: a.float("head_length")?,
@@ -197,11 +188,11 @@ fn load(a: &mut Args, parent: Transform) -> Result<super::Parts, SceneError> {
         belly_width: a.float("belly_width")?,
         eyes: a.bool("eyes")?,
         eye_size: a.float("eye_size")?,
-        roll: a.float("roll")?.to_radians(),
+        roll: a.angle("roll")?,
         roll_at: a.float("roll_at")?,
         roll_span: a.float("roll_span")?,
-        segments_along: a.int("segments_along")? as u32,
-        segments_around: a.int("segments_around")? as u32,
+        segments_along: a.u32("segments_along")?,
+        segments_around: a.u32("segments_around")?,
     };
     if let Some((s, t)) = self_intersection(&p, 2000) {
         let what = if s == t {

@@ -35,14 +35,14 @@ use glam::DVec3;
 declare!(PLUGIN: super::Parts, Transform = Shape "sphere" []
     "analytic sphere"
     [&[
-        Param::object_point("center", "(0, 0, 0)")
+        Param::object_point("center", [0.0, 0.0, 0.0])
             .doc("centre"),
         super::RADIUS,
     ], super::PLACEMENT] load);
 
 fn load(a: &mut Args, parent: Transform) -> Result<super::Parts, SceneError> {
     let (to_world, flip) = super::placement(a, &parent)?;
-    let center = a.point_opt("center")?.unwrap_or(Vec3::ZERO);
+    let center = a.point("center")?;
     let radius = a.float("radius")?;
     super::one(
         a,
@@ -149,14 +149,7 @@ impl Sphere {
         // b² − ac computed as a·(r² − |f − (b/a) d|²) avoids cancellation for distant spheres.
         let l = f - (b / a) * d;
         let disc = a * (r * r - l.length_squared());
-        if disc < 0.0 {
-            return None;
-        }
-        let q = -(b + disc.sqrt().copysign(b));
-        let (mut t0, mut t1) = if q == 0.0 { (0.0, 0.0) } else { (c / q, q / a) };
-        if t0 > t1 {
-            std::mem::swap(&mut t0, &mut t1);
-        }
+        let (t0, t1) = super::quadratic_roots(a, b, c, disc)?;
         let t_max = ray.t_max as f64;
         let t = if t0 > 0.0 { t0 } else { t1 };
         if t > 0.0 && t < t_max {

@@ -1,5 +1,7 @@
 use super::*;
 use crate::math::Pcg32;
+use crate::shape::test_util::subtended_solid_angle;
+use crate::shape::Shape;
 
 fn hit(s: &Sphere, ray: &Ray) -> Option<SurfaceInteraction> {
     crate::shape::test_util::first_hit(s.intersect(ray), |h| s.interaction(h, ray))
@@ -174,12 +176,8 @@ fn inside_sampling_covers_all_directions() {
     let s = Sphere::simple(Vec3::new(1.0, 0.0, 0.0), 2.0);
     let r = Vec3::new(1.5, 0.7, -0.9);
     let mut rng = Pcg32::new(99, 1);
-    let (mean, sigma) = crate::shape::test_util::mean_and_error(200_000, || {
-        let smp = s.sample_direct(r, rng.next_vec2()).unwrap();
-        let pdf = s.pdf_direct(r, smp.p, smp.n);
-        assert!((pdf - smp.pdf).abs() <= 1e-4 * pdf);
-        1.0 / smp.pdf as f64
-    });
+    let s = Shape::Sphere(s);
+    let (mean, sigma) = subtended_solid_angle(&s, r, &mut rng, (200_000, 1e-4), |_| ());
     let want = 4.0 * std::f64::consts::PI;
     assert!((mean - want).abs() < 4.0 * sigma, "{mean} ± {sigma}");
 }

@@ -63,7 +63,7 @@ fn load(a: &mut Args, parent: Transform) -> Result<super::Parts, SceneError> {
         Some(n) => n as u32,
         None => default_segments_major(major, minor),
     };
-    let nv = a.int("segments_minor")? as u32;
+    let nv = a.u32("segments_minor")?;
     let mesh = TriangleMesh::torus(major, minor, Some((nu, nv)), &to_world, flip);
     super::one(a, mesh.map(super::Shape::Mesh))
 }

@@ -150,11 +150,7 @@ mod tests {
     #[cfg(target_arch = "x86_64")]
     #[test]
     fn eight_lanes_equal_one_lane() {
-        if !(is_x86_feature_detected!("avx2") && is_x86_feature_detected!("fma")) {
-            return;
-        }
-        #[target_feature(enable = "avx2,fma")]
-        fn check() {
+        on_avx2!({
             use crate::simd::F8;
             let mut rng = crate::math::Pcg32::new(3, 4);
             for _ in 0..20_000 {
@@ -168,8 +164,6 @@ mod tests {
                     assert_eq!(l.lane(i).to_bits(), ln(x.abs()).to_bits());
                 }
             }
-        }
-        // SAFETY: the features were detected above.
-        unsafe { check() }
+        });
     }
 }

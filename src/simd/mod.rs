@@ -15,6 +15,9 @@
 //! target features (see [`crate::integrator::wave`], which dispatches at run time); its methods
 //! are `#[inline(always)]` so that they compile into the caller's instruction set.
 
+#[cfg(target_arch = "x86_64")]
+#[macro_use]
+mod macros;
 pub mod fastmath;
 mod scalar;
 mod vec;
@@ -36,6 +39,32 @@ use std::fmt::Debug;
 use std::ops::{
     Add, AddAssign, BitAnd, BitOr, BitXor, Div, DivAssign, Mul, MulAssign, Neg, Not, Sub, SubAssign,
 };
+
+/// The memory operations of lanes stored as `$e`, declared in [`Int`] and [`Float`]: loads and
+/// stores of whole lane sets (`load` and `store` are `load_at` and `store_at` at 0), a gather by
+/// the integer lanes `$idx`, and one lane read out as `$lane`.
+macro_rules! memory {
+    ($e:ty, $idx:ty, $lane:ty) => {
+        /// Loads lanes from `s[0..LANES]`.
+        #[inline(always)]
+        fn load(s: &[$e]) -> Self {
+            Self::load_at(s, 0)
+        }
+        /// Stores lanes to `s[0..LANES]`.
+        #[inline(always)]
+        fn store(self, s: &mut [$e]) {
+            self.store_at(s, 0)
+        }
+        /// Loads lanes from `s[i..i + LANES]` (one bounds check).
+        fn load_at(s: &[$e], i: usize) -> Self;
+        /// Stores lanes to `s[i..i + LANES]` (one bounds check).
+        fn store_at(self, s: &mut [$e], i: usize);
+        /// `s[idx[i]]` in lane i (indices must be in bounds; checked in debug builds).
+        fn gather(s: &[$e], idx: $idx) -> Self;
+        /// Lane `i`.
+        fn lane(self, i: usize) -> $lane;
+    };
+}
 
 /// A set of lanes of booleans, the result of comparing [`Float`]s or [`Int`]s.
 pub trait Mask:
@@ -86,18 +115,7 @@ pub trait Int:
     fn gt(self, o: Self) -> Self::M;
     /// `m ? a : b` lane by lane.
     fn select(m: Self::M, a: Self, b: Self) -> Self;
-    /// Loads lanes from `s[0..LANES]`.
-    fn load(s: &[u32]) -> Self;
-    /// Stores lanes to `s[0..LANES]`.
-    fn store(self, s: &mut [u32]);
-    /// Loads lanes from `s[i..i + LANES]` (one bounds check).
-    fn load_at(s: &[u32], i: usize) -> Self;
-    /// Stores lanes to `s[i..i + LANES]` (one bounds check).
-    fn store_at(self, s: &mut [u32], i: usize);
-    /// `s[idx[i]]` in lane i (indices must be in bounds; checked in debug builds).
-    fn gather(s: &[u32], idx: Self) -> Self;
-    /// Lane `i`.
-    fn lane(self, i: usize) -> i32;
+    memory!(u32, Self, i32);
 }
 
 /// Lanes of `f32`; see the module header.
@@ -154,18 +172,7 @@ pub trait Float:
     fn to_int(self) -> Self::I;
     /// Conversion from signed integers (round to nearest).
     fn from_int(i: Self::I) -> Self;
-    /// Loads lanes from `s[0..LANES]`.
-    fn load(s: &[f32]) -> Self;
-    /// Stores lanes to `s[0..LANES]`.
-    fn store(self, s: &mut [f32]);
-    /// Loads lanes from `s[i..i + LANES]` (one bounds check).
-    fn load_at(s: &[f32], i: usize) -> Self;
-    /// Stores lanes to `s[i..i + LANES]` (one bounds check).
-    fn store_at(self, s: &mut [f32], i: usize);
-    /// `s[idx[i]]` in lane i (indices must be in bounds; checked in debug builds).
-    fn gather(s: &[f32], idx: Self::I) -> Self;
-    /// Lane `i`.
-    fn lane(self, i: usize) -> f32;
+    memory!(f32, Self::I, f32);
     /// Lanes from a function of the lane index.
     fn from_fn(f: impl FnMut(usize) -> f32) -> Self;
     /// PCG32 generators in lanes ([`crate::math::Pcg32::next_f32`]): for the lanes of `m`,

@@ -3,6 +3,30 @@
 //! to the same scalar instructions.
 use super::{Float, Int, Mask};
 
+/// Comparison methods by the operators of `$t`.
+macro_rules! comparisons {
+    ($t:ty, $($f:ident $op:tt),*) => {
+        $(
+            #[inline(always)]
+            fn $f(self, o: $t) -> bool {
+                self $op o
+            }
+        )*
+    };
+}
+
+/// Methods that are `f32`'s own, with the same arguments.
+macro_rules! own {
+    ($($f:ident($($a:ident),*)),*) => {
+        $(
+            #[inline(always)]
+            fn $f(self $(, $a: f32)*) -> f32 {
+                f32::$f(self $(, $a)*)
+            }
+        )*
+    };
+}
+
 impl Mask for bool {
     #[inline(always)]
     fn splat(v: bool) -> bool {
@@ -28,6 +52,7 @@ impl Mask for bool {
 
 impl Int for i32 {
     type M = bool;
+    comparisons!(i32, eq ==, lt <, gt >);
     #[inline(always)]
     fn splat(v: i32) -> i32 {
         v
@@ -45,32 +70,12 @@ impl Int for i32 {
         ((self as u32) >> N) as i32
     }
     #[inline(always)]
-    fn eq(self, o: i32) -> bool {
-        self == o
-    }
-    #[inline(always)]
-    fn lt(self, o: i32) -> bool {
-        self < o
-    }
-    #[inline(always)]
-    fn gt(self, o: i32) -> bool {
-        self > o
-    }
-    #[inline(always)]
     fn select(m: bool, a: i32, b: i32) -> i32 {
         if m {
             a
         } else {
             b
         }
-    }
-    #[inline(always)]
-    fn load(s: &[u32]) -> i32 {
-        s[0] as i32
-    }
-    #[inline(always)]
-    fn store(self, s: &mut [u32]) {
-        s[0] = self as u32;
     }
     #[inline(always)]
     fn load_at(s: &[u32], i: usize) -> i32 {
@@ -94,34 +99,12 @@ impl Float for f32 {
     type M = bool;
     type I = i32;
     const LANES: usize = 1;
+    comparisons!(f32, lt <, le <=, gt >, ge >=, eq ==, ne !=);
+    own!(min(o), max(o), abs(), sqrt(), copysign(sign), floor());
 
     #[inline(always)]
     fn splat(v: f32) -> f32 {
         v
-    }
-    #[inline(always)]
-    fn lt(self, o: f32) -> bool {
-        self < o
-    }
-    #[inline(always)]
-    fn le(self, o: f32) -> bool {
-        self <= o
-    }
-    #[inline(always)]
-    fn gt(self, o: f32) -> bool {
-        self > o
-    }
-    #[inline(always)]
-    fn ge(self, o: f32) -> bool {
-        self >= o
-    }
-    #[inline(always)]
-    fn eq(self, o: f32) -> bool {
-        self == o
-    }
-    #[inline(always)]
-    fn ne(self, o: f32) -> bool {
-        self != o
     }
     #[inline(always)]
     fn is_nan(self) -> bool {
@@ -134,30 +117,6 @@ impl Float for f32 {
         } else {
             b
         }
-    }
-    #[inline(always)]
-    fn min(self, o: f32) -> f32 {
-        f32::min(self, o)
-    }
-    #[inline(always)]
-    fn max(self, o: f32) -> f32 {
-        f32::max(self, o)
-    }
-    #[inline(always)]
-    fn abs(self) -> f32 {
-        f32::abs(self)
-    }
-    #[inline(always)]
-    fn sqrt(self) -> f32 {
-        f32::sqrt(self)
-    }
-    #[inline(always)]
-    fn copysign(self, sign: f32) -> f32 {
-        f32::copysign(self, sign)
-    }
-    #[inline(always)]
-    fn floor(self) -> f32 {
-        f32::floor(self)
     }
     #[inline(always)]
     fn to_bits(self) -> i32 {
@@ -174,14 +133,6 @@ impl Float for f32 {
     #[inline(always)]
     fn from_int(i: i32) -> f32 {
         i as f32
-    }
-    #[inline(always)]
-    fn load(s: &[f32]) -> f32 {
-        s[0]
-    }
-    #[inline(always)]
-    fn store(self, s: &mut [f32]) {
-        s[0] = self;
     }
     #[inline(always)]
     fn load_at(s: &[f32], i: usize) -> f32 {

@@ -163,27 +163,11 @@ fn one_lane_is_f32() {
 #[cfg(target_arch = "x86_64")]
 #[test]
 fn eight_lanes_equal_one() {
-    if !(is_x86_feature_detected!("avx2") && is_x86_feature_detected!("fma")) {
-        return;
-    }
-    #[target_feature(enable = "avx2,fma")]
-    fn run() {
-        check::<super::F8>(&mut Pcg32::new(3, 4));
-    }
-    // SAFETY: the features were detected above.
-    unsafe { run() }
+    on_avx2!({ check::<super::F8>(&mut Pcg32::new(3, 4)) });
 }
 
 #[cfg(target_arch = "x86_64")]
 #[test]
 fn sixteen_lanes_equal_one() {
-    if !crate::accel::Isa::Avx512.supported() {
-        return;
-    }
-    #[target_feature(enable = "avx512f,avx512vl,avx512bw,avx512dq,avx2,fma")]
-    fn run() {
-        check::<super::F16>(&mut Pcg32::new(5, 6));
-    }
-    // SAFETY: the features were detected above.
-    unsafe { run() }
+    on_avx512!({ check::<super::F16>(&mut Pcg32::new(5, 6)) });
 }

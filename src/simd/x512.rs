@@ -26,35 +26,10 @@ pub struct M16(pub __mmask16);
 #[repr(transparent)]
 pub struct I16(pub __m512i);
 
-macro_rules! binop {
-    ($t:ident, $tr:ident, $f:ident, $intr:ident) => {
-        impl $tr for $t {
-            type Output = $t;
-            #[inline(always)]
-            fn $f(self, o: $t) -> $t {
-                unsafe { $t($intr(self.0, o.0)) }
-            }
-        }
-    };
-}
-macro_rules! assignop {
-    ($t:ident, $tr:ident, $f:ident, $atr:ident, $af:ident) => {
-        impl $atr for $t {
-            #[inline(always)]
-            fn $af(&mut self, o: $t) {
-                *self = $tr::$f(*self, o);
-            }
-        }
-    };
-}
-binop!(F16, Add, add, _mm512_add_ps);
-binop!(F16, Sub, sub, _mm512_sub_ps);
-binop!(F16, Mul, mul, _mm512_mul_ps);
-binop!(F16, Div, div, _mm512_div_ps);
-assignop!(F16, Add, add, AddAssign, add_assign);
-assignop!(F16, Sub, sub, SubAssign, sub_assign);
-assignop!(F16, Mul, mul, MulAssign, mul_assign);
-assignop!(F16, Div, div, DivAssign, div_assign);
+binop!(F16, Add, add, _mm512_add_ps, AddAssign, add_assign);
+binop!(F16, Sub, sub, _mm512_sub_ps, SubAssign, sub_assign);
+binop!(F16, Mul, mul, _mm512_mul_ps, MulAssign, mul_assign);
+binop!(F16, Div, div, _mm512_div_ps, DivAssign, div_assign);
 binop!(I16, Add, add, _mm512_add_epi32);
 binop!(I16, Sub, sub, _mm512_sub_epi32);
 binop!(I16, BitAnd, bitand, _mm512_and_si512);
@@ -120,9 +95,11 @@ impl Int for I16 {
     fn splat(v: i32) -> I16 {
         unsafe { I16(_mm512_set1_epi32(v)) }
     }
-    #[inline(always)]
-    fn mul_lo(self, o: I16) -> I16 {
-        unsafe { I16(_mm512_mullo_epi32(self.0, o.0)) }
+    intrinsics! {
+        fn mul_lo(self, o: I16) -> I16 = _mm512_mullo_epi32;
+        fn eq(self, o: I16) -> M16 = _mm512_cmpeq_epi32_mask;
+        fn lt(self, o: I16) -> M16 = _mm512_cmplt_epi32_mask;
+        fn gt(self, o: I16) -> M16 = _mm512_cmpgt_epi32_mask;
     }
     #[inline(always)]
     fn shl<const N: i32>(self) -> I16 {
@@ -133,28 +110,8 @@ impl Int for I16 {
         unsafe { I16(_mm512_srlv_epi32(self.0, _mm512_set1_epi32(N))) }
     }
     #[inline(always)]
-    fn eq(self, o: I16) -> M16 {
-        unsafe { M16(_mm512_cmpeq_epi32_mask(self.0, o.0)) }
-    }
-    #[inline(always)]
-    fn lt(self, o: I16) -> M16 {
-        unsafe { M16(_mm512_cmplt_epi32_mask(self.0, o.0)) }
-    }
-    #[inline(always)]
-    fn gt(self, o: I16) -> M16 {
-        unsafe { M16(_mm512_cmpgt_epi32_mask(self.0, o.0)) }
-    }
-    #[inline(always)]
     fn select(m: M16, a: I16, b: I16) -> I16 {
         unsafe { I16(_mm512_mask_blend_epi32(m.0, b.0, a.0)) }
-    }
-    #[inline(always)]
-    fn load(s: &[u32]) -> I16 {
-        I16::load_at(s, 0)
-    }
-    #[inline(always)]
-    fn store(self, s: &mut [u32]) {
-        self.store_at(s, 0)
     }
     #[inline(always)]
     fn load_at(s: &[u32], i: usize) -> I16 {
@@ -188,35 +145,7 @@ impl Float for F16 {
     fn splat(v: f32) -> F16 {
         unsafe { F16(_mm512_set1_ps(v)) }
     }
-    #[inline(always)]
-    fn lt(self, o: F16) -> M16 {
-        unsafe { M16(_mm512_cmp_ps_mask::<_CMP_LT_OQ>(self.0, o.0)) }
-    }
-    #[inline(always)]
-    fn le(self, o: F16) -> M16 {
-        unsafe { M16(_mm512_cmp_ps_mask::<_CMP_LE_OQ>(self.0, o.0)) }
-    }
-    #[inline(always)]
-    fn gt(self, o: F16) -> M16 {
-        unsafe { M16(_mm512_cmp_ps_mask::<_CMP_GT_OQ>(self.0, o.0)) }
-    }
-    #[inline(always)]
-    fn ge(self, o: F16) -> M16 {
-        unsafe { M16(_mm512_cmp_ps_mask::<_CMP_GE_OQ>(self.0, o.0)) }
-    }
-    #[inline(always)]
-    fn eq(self, o: F16) -> M16 {
-        unsafe { M16(_mm512_cmp_ps_mask::<_CMP_EQ_OQ>(self.0, o.0)) }
-    }
-    #[inline(always)]
-    fn ne(self, o: F16) -> M16 {
-        // Unordered or unequal, as `!=` on f32 (true with a NaN operand).
-        unsafe { M16(_mm512_cmp_ps_mask::<_CMP_NEQ_UQ>(self.0, o.0)) }
-    }
-    #[inline(always)]
-    fn is_nan(self) -> M16 {
-        unsafe { M16(_mm512_cmp_ps_mask::<_CMP_UNORD_Q>(self.0, self.0)) }
-    }
+    float_comparisons!(M16, _mm512_cmp_ps_mask);
     #[inline(always)]
     fn select(m: M16, a: F16, b: F16) -> F16 {
         unsafe { F16(_mm512_mask_blend_ps(m.0, b.0, a.0)) }
@@ -236,13 +165,13 @@ impl Float for F16 {
             F16(_mm512_mask_blend_ps(self.is_nan().0, m, o.0))
         }
     }
-    #[inline(always)]
-    fn abs(self) -> F16 {
-        unsafe { F16(_mm512_abs_ps(self.0)) }
-    }
-    #[inline(always)]
-    fn sqrt(self) -> F16 {
-        unsafe { F16(_mm512_sqrt_ps(self.0)) }
+    intrinsics! {
+        fn abs(self) -> F16 = _mm512_abs_ps;
+        fn sqrt(self) -> F16 = _mm512_sqrt_ps;
+        fn to_bits(self) -> I16 = _mm512_castps_si512;
+        fn from_bits(i: I16) -> F16 = _mm512_castsi512_ps;
+        fn to_int(self) -> I16 = _mm512_cvttps_epi32;
+        fn from_int(i: I16) -> F16 = _mm512_cvtepi32_ps;
     }
     #[inline(always)]
     fn copysign(self, sign: F16) -> F16 {
@@ -258,30 +187,6 @@ impl Float for F16 {
     fn floor(self) -> F16 {
         // Round towards −∞ (mode 1), without precision exceptions (bit 3).
         unsafe { F16(_mm512_roundscale_ps::<0x09>(self.0)) }
-    }
-    #[inline(always)]
-    fn to_bits(self) -> I16 {
-        unsafe { I16(_mm512_castps_si512(self.0)) }
-    }
-    #[inline(always)]
-    fn from_bits(i: I16) -> F16 {
-        unsafe { F16(_mm512_castsi512_ps(i.0)) }
-    }
-    #[inline(always)]
-    fn to_int(self) -> I16 {
-        unsafe { I16(_mm512_cvttps_epi32(self.0)) }
-    }
-    #[inline(always)]
-    fn from_int(i: I16) -> F16 {
-        unsafe { F16(_mm512_cvtepi32_ps(i.0)) }
-    }
-    #[inline(always)]
-    fn load(s: &[f32]) -> F16 {
-        F16::load_at(s, 0)
-    }
-    #[inline(always)]
-    fn store(self, s: &mut [f32]) {
-        self.store_at(s, 0)
     }
     #[inline(always)]
     fn load_at(s: &[f32], i: usize) -> F16 {

@@ -25,27 +25,10 @@ pub struct M8(pub __m256);
 #[repr(transparent)]
 pub struct I8(pub __m256i);
 
-macro_rules! binop {
-    ($t:ident, $tr:ident, $f:ident, $atr:ident, $af:ident, $intr:ident) => {
-        impl $tr for $t {
-            type Output = $t;
-            #[inline(always)]
-            fn $f(self, o: $t) -> $t {
-                unsafe { $t($intr(self.0, o.0)) }
-            }
-        }
-        impl $atr for $t {
-            #[inline(always)]
-            fn $af(&mut self, o: $t) {
-                *self = $tr::$f(*self, o);
-            }
-        }
-    };
-}
-binop!(F8, Add, add, AddAssign, add_assign, _mm256_add_ps);
-binop!(F8, Sub, sub, SubAssign, sub_assign, _mm256_sub_ps);
-binop!(F8, Mul, mul, MulAssign, mul_assign, _mm256_mul_ps);
-binop!(F8, Div, div, DivAssign, div_assign, _mm256_div_ps);
+binop!(F8, Add, add, _mm256_add_ps, AddAssign, add_assign);
+binop!(F8, Sub, sub, _mm256_sub_ps, SubAssign, sub_assign);
+binop!(F8, Mul, mul, _mm256_mul_ps, MulAssign, mul_assign);
+binop!(F8, Div, div, _mm256_div_ps, DivAssign, div_assign);
 
 impl Neg for F8 {
     type Output = F8;
@@ -55,19 +38,8 @@ impl Neg for F8 {
     }
 }
 
-macro_rules! maskop {
-    ($tr:ident, $f:ident, $intr:ident) => {
-        impl $tr for M8 {
-            type Output = M8;
-            #[inline(always)]
-            fn $f(self, o: M8) -> M8 {
-                unsafe { M8($intr(self.0, o.0)) }
-            }
-        }
-    };
-}
-maskop!(BitAnd, bitand, _mm256_and_ps);
-maskop!(BitOr, bitor, _mm256_or_ps);
+binop!(M8, BitAnd, bitand, _mm256_and_ps);
+binop!(M8, BitOr, bitor, _mm256_or_ps);
 
 impl Not for M8 {
     type Output = M8;
@@ -113,22 +85,11 @@ impl Mask for M8 {
     }
 }
 
-macro_rules! intop {
-    ($tr:ident, $f:ident, $intr:ident) => {
-        impl $tr for I8 {
-            type Output = I8;
-            #[inline(always)]
-            fn $f(self, o: I8) -> I8 {
-                unsafe { I8($intr(self.0, o.0)) }
-            }
-        }
-    };
-}
-intop!(Add, add, _mm256_add_epi32);
-intop!(Sub, sub, _mm256_sub_epi32);
-intop!(BitAnd, bitand, _mm256_and_si256);
-intop!(BitOr, bitor, _mm256_or_si256);
-intop!(BitXor, bitxor, _mm256_xor_si256);
+binop!(I8, Add, add, _mm256_add_epi32);
+binop!(I8, Sub, sub, _mm256_sub_epi32);
+binop!(I8, BitAnd, bitand, _mm256_and_si256);
+binop!(I8, BitOr, bitor, _mm256_or_si256);
+binop!(I8, BitXor, bitxor, _mm256_xor_si256);
 
 impl Int for I8 {
     type M = M8;
@@ -136,9 +97,8 @@ impl Int for I8 {
     fn splat(v: i32) -> I8 {
         unsafe { I8(_mm256_set1_epi32(v)) }
     }
-    #[inline(always)]
-    fn mul_lo(self, o: I8) -> I8 {
-        unsafe { I8(_mm256_mullo_epi32(self.0, o.0)) }
+    intrinsics! {
+        fn mul_lo(self, o: I8) -> I8 = _mm256_mullo_epi32;
     }
     #[inline(always)]
     fn shl<const N: i32>(self) -> I8 {
@@ -212,35 +172,7 @@ impl Float for F8 {
     fn splat(v: f32) -> F8 {
         unsafe { F8(_mm256_set1_ps(v)) }
     }
-    #[inline(always)]
-    fn lt(self, o: F8) -> M8 {
-        unsafe { M8(_mm256_cmp_ps::<_CMP_LT_OQ>(self.0, o.0)) }
-    }
-    #[inline(always)]
-    fn le(self, o: F8) -> M8 {
-        unsafe { M8(_mm256_cmp_ps::<_CMP_LE_OQ>(self.0, o.0)) }
-    }
-    #[inline(always)]
-    fn gt(self, o: F8) -> M8 {
-        unsafe { M8(_mm256_cmp_ps::<_CMP_GT_OQ>(self.0, o.0)) }
-    }
-    #[inline(always)]
-    fn ge(self, o: F8) -> M8 {
-        unsafe { M8(_mm256_cmp_ps::<_CMP_GE_OQ>(self.0, o.0)) }
-    }
-    #[inline(always)]
-    fn eq(self, o: F8) -> M8 {
-        unsafe { M8(_mm256_cmp_ps::<_CMP_EQ_OQ>(self.0, o.0)) }
-    }
-    #[inline(always)]
-    fn ne(self, o: F8) -> M8 {
-        // Unordered or unequal, as `!=` on f32 (true with a NaN operand).
-        unsafe { M8(_mm256_cmp_ps::<_CMP_NEQ_UQ>(self.0, o.0)) }
-    }
-    #[inline(always)]
-    fn is_nan(self) -> M8 {
-        unsafe { M8(_mm256_cmp_ps::<_CMP_UNORD_Q>(self.0, self.0)) }
-    }
+    float_comparisons!(M8, _mm256_cmp_ps);
     #[inline(always)]
     fn select(m: M8, a: F8, b: F8) -> F8 {
         unsafe { F8(_mm256_blendv_ps(b.0, a.0, m.0)) }
@@ -265,9 +197,13 @@ impl Float for F8 {
     fn abs(self) -> F8 {
         unsafe { F8(_mm256_andnot_ps(_mm256_set1_ps(-0.0), self.0)) }
     }
-    #[inline(always)]
-    fn sqrt(self) -> F8 {
-        unsafe { F8(_mm256_sqrt_ps(self.0)) }
+    intrinsics! {
+        fn sqrt(self) -> F8 = _mm256_sqrt_ps;
+        fn floor(self) -> F8 = _mm256_floor_ps;
+        fn to_bits(self) -> I8 = _mm256_castps_si256;
+        fn from_bits(i: I8) -> F8 = _mm256_castsi256_ps;
+        fn to_int(self) -> I8 = _mm256_cvttps_epi32;
+        fn from_int(i: I8) -> F8 = _mm256_cvtepi32_ps;
     }
     #[inline(always)]
     fn copysign(self, sign: F8) -> F8 {
@@ -278,26 +214,6 @@ impl Float for F8 {
                 _mm256_and_ps(s, sign.0),
             ))
         }
-    }
-    #[inline(always)]
-    fn floor(self) -> F8 {
-        unsafe { F8(_mm256_floor_ps(self.0)) }
-    }
-    #[inline(always)]
-    fn to_bits(self) -> I8 {
-        unsafe { I8(_mm256_castps_si256(self.0)) }
-    }
-    #[inline(always)]
-    fn from_bits(i: I8) -> F8 {
-        unsafe { F8(_mm256_castsi256_ps(i.0)) }
-    }
-    #[inline(always)]
-    fn to_int(self) -> I8 {
-        unsafe { I8(_mm256_cvttps_epi32(self.0)) }
-    }
-    #[inline(always)]
-    fn from_int(i: I8) -> F8 {
-        unsafe { F8(_mm256_cvtepi32_ps(i.0)) }
     }
     #[inline(always)]
     fn load(s: &[f32]) -> F8 {

@@ -142,30 +142,47 @@ mod tests {
     use super::*;
     use crate::math::Pcg32;
 
-    #[test]
-    fn values_fill_the_range_uniformly_and_follow_the_cells() {
-        let cells = Arc::new(Scales {
-            irregularity: 0.5,
-            ..Scales::default()
-        });
+    /// `PerScale` over `cells` with values in [lo, hi) and bands of `band_spread` (length 1).
+    fn per_scale(cells: Scales, lo: f32, hi: f32, band_spread: f32) -> (Arc<Scales>, PerScale) {
+        let cells = Arc::new(cells);
         let t = PerScale {
             cells: cells.clone(),
-            lo: 840.0,
-            hi: 960.0,
-            band_spread: 0.0,
+            lo,
+            hi,
+            band_spread,
             band_length: 1.0,
         };
-        let mut rng = Pcg32::new(1, 2);
+        (cells, t)
+    }
+
+    /// The values of `t` at 20,000 points drawn by `uv`, by the key of their cell; each value
+    /// in `range`, one value per cell.
+    fn values_by_cell<K: std::hash::Hash + Eq>(
+        t: &PerScale,
+        mut uv: impl FnMut() -> Vec2,
+        key: impl Fn(Vec2) -> K,
+        range: impl std::ops::RangeBounds<f32>,
+    ) -> std::collections::HashMap<K, f32> {
         let mut seen = std::collections::HashMap::new();
         for _ in 0..20000 {
-            let uv = rng.next_vec2();
+            let uv = uv();
             let v = t.eval(uv);
-            assert!((840.0..960.0).contains(&v));
-            let cell = cells.sample(uv).cell;
-            // Constant over a cell.
-            let prev = *seen.entry(cell).or_insert(v);
-            assert_eq!(prev, v);
+            assert!(range.contains(&v), "{v}");
+            assert_eq!(*seen.entry(key(uv)).or_insert(v), v);
         }
+        seen
+    }
+
+    #[test]
+    fn values_fill_the_range_uniformly_and_follow_the_cells() {
+        let cells = Scales {
+            irregularity: 0.5,
+            ..Scales::default()
+        };
+        let (cells, t) = per_scale(cells, 840.0, 960.0, 0.0);
+        let mut rng = Pcg32::new(1, 2);
+        let key = |uv| cells.sample(uv).cell;
+        let seen = values_by_cell(&t, || rng.next_vec2(), key, 840.0..960.0);
         // 400 cells: the mean of uniform values on [840, 960) is 900 with σ = 120/√12/√n.
         let n = seen.len() as f32;
         assert!(n > 350.0);
@@ -176,28 +193,20 @@ mod tests {
 
     #[test]
     fn bands_are_constant_per_cell_bounded_and_shared_by_neighbours() {
-        let cells = Arc::new(Scales {
+        let cells = Scales {
             scale_u: 15.0,
             scale_v: 15.0,
             ..Scales::default()
-        });
-        let t = PerScale {
-            cells: cells.clone(),
-            lo: 315.0,
-            hi: 345.0,
-            band_spread: 140.0,
-            band_length: 1.0,
         };
+        let (cells, t) = per_scale(cells, 315.0, 345.0, 140.0);
         let mut rng = Pcg32::new(3, 4);
-        let mut seen = std::collections::HashMap::new();
-        for _ in 0..20000 {
-            let uv = Vec2::new(rng.next_f32(), 8.0 * rng.next_f32());
-            let v = t.eval(uv);
-            assert!((175.0..=485.0).contains(&v), "{v}");
-            // Keyed by the cell's centre: lattice indices wrap every unit of v here.
+        let uv = || Vec2::new(rng.next_f32(), 8.0 * rng.next_f32());
+        // Keyed by the cell's centre: lattice indices wrap every unit of v here.
+        let key = |uv| {
             let c = cells.nearest_center(uv).2;
-            assert_eq!(*seen.entry((c.x.to_bits(), c.y.to_bits())).or_insert(v), v);
-        }
+            (c.x.to_bits(), c.y.to_bits())
+        };
+        let seen = values_by_cell(&t, uv, key, 175.0..=485.0);
         // The band moves by at most 1.5·2·band_spread per band_length (smoothstep's steepest
         // slope), so scales a row apart (1/15 of it) differ by ≤ 28 nm + the per-cell 30 nm.
         for k in 0..2000 {

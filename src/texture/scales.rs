@@ -101,14 +101,8 @@ impl Layout {
 
 /// The parameters.
 const PARAMS: &[Param] = &[
-    Param::float("scale_u", 20.0)
-        .check(Check::OpenClosed(0.0, 1e6))
-        .unit("1/UV")
-        .doc("cells per unit u"),
-    Param::float("scale_v", 20.0)
-        .check(Check::OpenClosed(0.0, 1e6))
-        .unit("1/UV")
-        .doc("rows per unit v"),
+    Param::up_to("scale_u", 20.0, 1e6, "1/UV").doc("cells per unit u"),
+    Param::up_to("scale_v", 20.0, 1e6, "1/UV").doc("rows per unit v"),
     Param::fraction("irregularity", 0.3).doc("0 = regular hexagons … 1 = Voronoi-like jitter"),
     Param::float("gap", 0.08)
         .also(&["line_width"])
@@ -118,16 +112,12 @@ const PARAMS: &[Param] = &[
         .doc("groove width at half height"),
     Param::fraction("dome", 0.5).doc("0 = flat top … 1 = fully rounded"),
     Param::fraction("overlap", 0.3).doc("0 = symmetric … 1 = a ramp rising to the free edge"),
-    Param::float("overlap_angle", 90.0)
-        .unit("degrees")
+    Param::angle("overlap_angle", 90.0)
         .doc("direction of the free edge in cell space (0 = +u, 90 = +v)"),
-    Param::float("tilt_degrees", 0.0)
+    Param::angle("tilt_degrees", 0.0)
         .check(Check::Range(0.0, 45.0))
-        .unit("degrees")
         .doc("largest random tilt of a scale's normal"),
-    Param::int("seed", 0)
-        .check(Check::Range(0.0, u32::MAX as f64))
-        .doc("changes the random numbers"),
+    Param::u32("seed", 0).doc("changes the random numbers"),
     Param::string("layout", "hex")
         .check(Check::OneOf(&["hex", "rows", "head"]))
         .doc(
@@ -143,7 +133,7 @@ declare!(PLUGIN: Texture, Want = Texture "scales" ["reptileSkin", "reptile_skin"
 
 /// The pattern's parameters.
 pub(crate) fn load_cells(a: &Args) -> Result<Scales, SceneError> {
-    let angle = a.float("overlap_angle")?.to_radians();
+    let angle = a.angle("overlap_angle")?;
     Ok(Scales {
         scale_u: a.float("scale_u")?,
         scale_v: a.float("scale_v")?,
@@ -152,8 +142,8 @@ pub(crate) fn load_cells(a: &Args) -> Result<Scales, SceneError> {
         dome: a.float("dome")?,
         overlap: a.float("overlap")?,
         overlap_dir: Vec2::new(angle.cos(), angle.sin()),
-        tilt: a.float("tilt_degrees")?.to_radians(),
-        seed: a.int("seed")? as u32,
+        tilt: a.angle("tilt_degrees")?,
+        seed: a.u32("seed")?,
         // The declaration's check admits only the three names.
         layout: Layout::from_name(&a.string("layout")?).unwrap_or_default(),
     })

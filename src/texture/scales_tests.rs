@@ -2,13 +2,21 @@ use super::*;
 use crate::math::Pcg32;
 use std::collections::HashMap;
 
+/// The default pattern with `scale_u` × `scale_v` cells per unit of UV and the given
+/// irregularity.
+fn grid(scale_u: f32, scale_v: f32, irregularity: f32) -> Scales {
+    Scales {
+        scale_u,
+        scale_v,
+        irregularity,
+        ..Scales::default()
+    }
+}
+
 fn irregular() -> Scales {
     Scales {
-        scale_u: 23.3,
-        scale_v: 17.7,
-        irregularity: 1.0,
         seed: 11,
-        ..Scales::default()
+        ..grid(23.3, 17.7, 1.0)
     }
 }
 
@@ -138,12 +146,7 @@ fn height_is_continuous_with_a_gap_and_steps_without() {
 
 #[test]
 fn regular_scales_are_congruent_hexagons() {
-    let s = Scales {
-        irregularity: 0.0,
-        scale_u: 10.0,
-        scale_v: 8.0,
-        ..Scales::default()
-    };
+    let s = grid(10.0, 8.0, 0.0);
     let mut rng = Pcg32::new(4, 4);
     let offsets: Vec<Vec2> = (0..200)
         .map(|_| (rng.next_vec2() - Vec2::splat(0.5)) * 0.9)
@@ -186,12 +189,7 @@ fn regular_scales_are_congruent_hexagons() {
 
 #[test]
 fn integer_scales_wrap_without_a_seam() {
-    let s = Scales {
-        scale_u: 16.0,
-        scale_v: 12.0,
-        irregularity: 0.8,
-        ..Scales::default()
-    };
+    let s = grid(16.0, 12.0, 0.8);
     let mut rng = Pcg32::new(8, 8);
     for _ in 0..500 {
         let uv = rng.next_vec2();
@@ -241,11 +239,8 @@ fn tilts_stay_in_their_cone_and_vary_per_cell() {
 fn rows_layout_makes_one_plate_across_u_with_grooves_at_both_edges() {
     let s = Scales {
         layout: Layout::Rows,
-        scale_u: 1.0,
-        scale_v: 15.0,
-        irregularity: 0.3,
         gap: 0.08,
-        ..Scales::default()
+        ..grid(1.0, 15.0, 0.3)
     };
     let mut rng = Pcg32::new(8, 8);
     for _ in 0..2000 {

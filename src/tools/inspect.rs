@@ -5,7 +5,7 @@
 //! Directions follow [`super::testing::direction`]: the incident direction is at polar angle
 //! θi in the plane φ = 0, the outgoing one at (θo, φo); θ < 0 means below the surface.
 
-use super::plot::{color_map, heat, Figure, PlotError, PolarChart};
+use super::plot::{color_map, heat, Figure, Plot, PlotError, PolarChart};
 use crate::bsdf::testing::{direction, Estimate};
 use crate::bsdf::{Material, TransportMode};
 use crate::math::Pcg32;

@@ -5,7 +5,7 @@ use anyhow::{anyhow, Context, Result};
 use ophis::image_io::RgbImage;
 use ophis::optics::filmstack::FilmStack;
 use ophis::optics::filmtool::rt_deg;
-use ophis::tools::plot::{color_map, LineChart};
+use ophis::tools::plot::{color_map, LineChart, Plot};
 use std::path::Path;
 
 /// "n 1 | 1.56:900 | 1.5": outside medium, layers outside in, base.

@@ -124,31 +124,28 @@ pub fn render_tile(
 ) -> Vec<[f64; 4]> {
     #[cfg(target_arch = "x86_64")]
     {
-        use crate::simd::F8;
-        #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
-        fn avx2(
-            s: &Scene,
-            p: &Program,
-            c: (u32, u32),
-            f: (u32, u32),
-            n: (u32, u32),
-            st: PathStrategy,
-        ) -> Vec<[f64; 4]> {
-            run::<F8>(s, p, c, f, n, st)
+        // `run` with lanes `$lanes`, compiled for the instruction set `$features`.
+        macro_rules! entry {
+            ($name:ident, $lanes:ty, $features:literal) => {
+                #[target_feature(enable = $features)]
+                fn $name(
+                    s: &Scene,
+                    p: &Program,
+                    c: (u32, u32),
+                    f: (u32, u32),
+                    n: (u32, u32),
+                    st: PathStrategy,
+                ) -> Vec<[f64; 4]> {
+                    run::<$lanes>(s, p, c, f, n, st)
+                }
+            };
         }
-        #[target_feature(
-            enable = "avx512f,avx512vl,avx512bw,avx512dq,avx2,fma,bmi1,bmi2,lzcnt,popcnt"
-        )]
-        fn avx512(
-            s: &Scene,
-            p: &Program,
-            c: (u32, u32),
-            f: (u32, u32),
-            n: (u32, u32),
-            st: PathStrategy,
-        ) -> Vec<[f64; 4]> {
-            run::<crate::simd::F16>(s, p, c, f, n, st)
-        }
+        entry!(avx2, crate::simd::F8, "avx2,fma,bmi1,bmi2,lzcnt,popcnt");
+        entry!(
+            avx512,
+            crate::simd::F16,
+            "avx512f,avx512vl,avx512bw,avx512dq,avx2,fma,bmi1,bmi2,lzcnt,popcnt"
+        );
         match scene.bvh.isa() {
             // SAFETY: the BVH only holds an instruction set the CPU supports (`Isa::best`,
             // `Bvh::set_isa`).

@@ -55,15 +55,21 @@ fn sphere(flip_normals: bool) -> Shape {
     )
 }
 
-#[test]
-fn sphere_light_irradiance_matches_closed_form() {
-    // A sphere of radius r at distance d, seen by a surface facing its centre: E = π L (r/d)².
-    let shapes = [sphere(false)];
+/// A unit sphere at the origin emitting radiance 2 (inwards with `flip_normals`), seen from a
+/// shading point at distance 3 on +z with normal `n`.
+fn sphere_light(flip_normals: bool, n: Vec3) -> ([Shape; 1], Light, LightSampleContext) {
     let light = Light::Area(AreaLight::new(0, Spectrum::Constant(2.0)));
     let ctx = LightSampleContext {
         p: Vec3::new(0.0, 0.0, 3.0),
-        n: -Vec3::Z,
+        n,
     };
+    ([sphere(flip_normals)], light, ctx)
+}
+
+#[test]
+fn sphere_light_irradiance_matches_closed_form() {
+    // A sphere of radius r at distance d, seen by a surface facing its centre: E = π L (r/d)².
+    let (shapes, light, ctx) = sphere_light(false, -Vec3::Z);
     let mut rng = Pcg32::new(9, 2);
     let (mean, sigma) = mean_and_sigma((0..20_000).map(|_| {
         let Some(s) = light.sample_li(&ctx, rng.next_vec2(), &wl(), &shapes) else {
@@ -84,12 +90,7 @@ fn sphere_light_irradiance_matches_closed_form() {
 
 #[test]
 fn inward_facing_sphere_is_dark_from_outside() {
-    let shapes = [sphere(true)];
-    let light = Light::Area(AreaLight::new(0, Spectrum::Constant(2.0)));
-    let ctx = LightSampleContext {
-        p: Vec3::new(0.0, 0.0, 3.0),
-        n: Vec3::ZERO,
-    };
+    let (shapes, light, ctx) = sphere_light(true, Vec3::ZERO);
     let mut rng = Pcg32::new(1, 2);
     for _ in 0..100 {
         assert!(light

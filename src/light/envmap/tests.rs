@@ -1,5 +1,5 @@
 use super::super::test_util::{mean_and_sigma, wl};
-use super::super::Light;
+use super::super::{AtInfinity, Light, LightSampleContext};
 use super::*;
 use crate::math::warp::square_to_uniform_sphere;
 use crate::math::Pcg32;
@@ -122,7 +122,7 @@ fn density_is_positive_wherever_the_interpolated_radiance_is() {
     let (w, h) = (8, 6);
     let mut values = vec![0.0; w * h];
     values[2 * w + 7] = 10.0;
-    let light = Light::EnvMap(map(w, h, &values, Transform::IDENTITY));
+    let light = Light::EnvMap(map(w, h, &values, Transform::IDENTITY).into());
     let ctx = LightSampleContext {
         p: Vec3::ZERO,
         n: Vec3::ZERO,
@@ -156,7 +156,7 @@ fn importance_sampling_integrates_the_map() {
     let (w, h) = (16, 8);
     let values = patchy(w, h);
     let want = quadrature(w, h, &values);
-    let light = Light::EnvMap(map(w, h, &values, rotation()));
+    let light = Light::EnvMap(map(w, h, &values, rotation()).into());
     assert!(light.is_infinite() && !light.is_delta());
     let ctx = LightSampleContext {
         p: Vec3::new(0.3, -0.2, 1.0),
@@ -198,13 +198,16 @@ fn uniform_estimates_agree_with_le_and_pdf_normalisation() {
         (mean - want).abs() <= 4.0 * sigma,
         "{mean} vs {want} ± {sigma}"
     );
-    let (mean, sigma) = mean_and_sigma(dirs.iter().map(|&d| four_pi * light.pdf_li(d) as f64));
+    let (mean, sigma) = mean_and_sigma(
+        dirs.iter()
+            .map(|&d| four_pi * light.pdf_li(Vec3::ZERO, d) as f64),
+    );
     assert!((mean - 1.0).abs() <= 4.0 * sigma, "{mean} ± {sigma}");
 }
 
 #[test]
 fn black_map_and_bad_images() {
-    let light = map(4, 2, &[0.0; 8], Transform::IDENTITY);
+    let light = AtInfinity::from(map(4, 2, &[0.0; 8], Transform::IDENTITY));
     // All-zero weights fall back to uniform sampling; the radiance is zero.
     let ctx = LightSampleContext {
         p: Vec3::ZERO,

@@ -4,8 +4,8 @@
 
 use super::preetham::{PreethamSky, LUMINOUS_EFFICACY};
 use crate::light::envmap::uv_to_direction;
-use crate::light::infinite::{latlong_pdf, latlong_sample, SceneSphere};
-use crate::light::{Distribution2D, LightLiSample, LightSampleContext};
+use crate::light::infinite::{latlong_pdf, InfiniteLight};
+use crate::light::Distribution2D;
 use crate::math::{Transform, Vec2, Vec3, PI};
 use crate::spectrum::cie::CIE_Y_INTEGRAL;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
@@ -27,7 +27,6 @@ pub struct SkyLight {
     dist: Distribution2D,
     /// ∫ luminance dω over the sky (cd/m² · sr, before `scale`).
     luminance_integral: f32,
-    sphere: SceneSphere,
 }
 
 impl SkyLight {
@@ -80,7 +79,6 @@ impl SkyLight {
             to_local: to_world.inverse(),
             dist: Distribution2D::new(&weights, GRID_W, GRID_H),
             luminance_integral: integral as f32,
-            sphere: SceneSphere::default(),
         }
     }
 
@@ -89,16 +87,30 @@ impl SkyLight {
         self.model.as_ref()
     }
 
-    pub(crate) fn set_scene_sphere(&mut self, c: Vec3, r: f32) {
-        self.sphere = SceneSphere::new(c, r);
-    }
-
     fn local(&self, dir: Vec3) -> Vec3 {
         self.to_local.vector(dir).normalize_or_zero()
     }
+}
 
-    /// Radiance seen along the escaping direction `dir` (world space).
-    pub(crate) fn le(&self, dir: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
+impl InfiniteLight for SkyLight {
+    fn sample_wi(&self, _: Vec3, u: Vec2) -> Option<Vec3> {
+        self.model.as_ref()?;
+        let (uv, _, _) = self.dist.sample(u);
+        Some(
+            self.to_world
+                .vector(uv_to_direction(uv))
+                .normalize_or_zero(),
+        )
+    }
+
+    fn pdf_li(&self, _: Vec3, wi: Vec3) -> f32 {
+        if self.model.is_none() {
+            return 0.0;
+        }
+        latlong_pdf(self.local(wi), |uv| self.dist.pdf(uv))
+    }
+
+    fn le(&self, dir: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
         let Some(m) = &self.model else {
             return SampledSpectrum::ZERO;
         };
@@ -108,31 +120,11 @@ impl SkyLight {
         SampledSpectrum(m.radiance(self.local(dir), wl.lambda)) * self.scale
     }
 
-    /// Solid-angle density of [`Self::sample_li`] producing the world direction `wi`.
-    pub(crate) fn pdf_li(&self, wi: Vec3) -> f32 {
-        if self.model.is_none() {
-            return 0.0;
-        }
-        latlong_pdf(self.local(wi), |uv| self.dist.pdf(uv))
-    }
-
-    pub(crate) fn sample_li(
-        &self,
-        ctx: &LightSampleContext,
-        u: Vec2,
-        wl: &SampledWavelengths,
-    ) -> Option<LightLiSample> {
-        self.model.as_ref()?;
-        let (uv, _, _) = self.dist.sample(u);
-        let (pdf_li, le) = (|wi| self.pdf_li(wi), |wi| self.le(wi, wl));
-        latlong_sample(ctx, &self.to_world, uv, &self.sphere, pdf_li, le)
-    }
-
     /// Power falling on the scene's bounding sphere, π r² ∫ L dω, with the spectrum reduced to
     /// the flat spectrum of the same luminance.
-    pub(crate) fn power(&self) -> f32 {
+    fn power(&self, r: f32) -> f32 {
         let mean_radiance = self.luminance_integral / (LUMINOUS_EFFICACY * CIE_Y_INTEGRAL);
-        PI * self.sphere.radius * self.sphere.radius * mean_radiance * self.scale
+        PI * r * r * mean_radiance * self.scale
     }
 }
 
@@ -140,7 +132,7 @@ impl SkyLight {
 mod tests {
     use super::super::test_util::{mean_and_sigma, wl};
     use super::*;
-    use crate::light::Light;
+    use crate::light::{Light, LightSampleContext};
     use crate::math::Pcg32;
 
     fn sun_at(zenith_deg: f32, azimuth_deg: f32) -> Vec3 {
@@ -187,7 +179,7 @@ mod tests {
         }
         // The sun below the horizon switches the sky off.
         let night = SkyLight::new(3.0, sun_at(95.0, 0.0), 1.0, Transform::IDENTITY);
-        assert!(night.le(Vec3::Y, &wl()).is_black() && night.pdf_li(Vec3::Y) == 0.0);
+        assert!(night.le(Vec3::Y, &wl()).is_black() && night.pdf_li(Vec3::ZERO, Vec3::Y) == 0.0);
     }
 
     #[test]
@@ -213,7 +205,7 @@ mod tests {
     fn importance_sampling_integrates_the_sky_and_matches_pdf() {
         let rot = Transform::rotate(Vec3::new(0.3, 0.2, 1.0), 25.0).unwrap();
         let sky = SkyLight::new(4.0, sun_at(35.0, 200.0), 2.0, rot);
-        let light = Light::Sky(sky.clone());
+        let light = Light::Sky(sky.clone().into());
         assert!(light.is_infinite() && !light.is_delta());
         // ∫ L dω in the sky's own frame (the rotation does not change the integral).
         let unrotated = SkyLight::new(4.0, sun_at(35.0, 200.0), 2.0, Transform::IDENTITY);
@@ -251,7 +243,8 @@ mod tests {
             let st = (1.0 - ct * ct).sqrt();
             for j in 0..2 * n {
                 let phi = PI * (j as f32 + 0.5) / n as f32;
-                sum += sky.pdf_li(Vec3::new(st * phi.cos(), ct, st * phi.sin())) as f64;
+                let d = Vec3::new(st * phi.cos(), ct, st * phi.sin());
+                sum += sky.pdf_li(Vec3::ZERO, d) as f64;
             }
         }
         let total = sum * (2.0 / n as f64) * (std::f64::consts::PI / n as f64);

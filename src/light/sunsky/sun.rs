@@ -12,8 +12,7 @@
 //! take a few per cent in the visible (ozone's Chappuis band near 600 nm) and more in the
 //! near infrared (O₂ at 760 nm, H₂O at 720 and 820 nm). No limb darkening.
 
-use crate::light::infinite::SceneSphere;
-use crate::light::{LightLiSample, LightSampleContext};
+use crate::light::infinite::InfiniteLight;
 use crate::math::{Frame, Vec2, Vec3, PI};
 use crate::spectrum::spectra::blackbody;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, LAMBDA_MAX, LAMBDA_MIN};
@@ -100,7 +99,6 @@ pub struct SunLight {
     /// Radiance, or for a delta sun the irradiance.
     spectrum: SunSpectrum,
     delta: bool,
-    sphere: SceneSphere,
 }
 
 impl SunLight {
@@ -139,13 +137,7 @@ impl SunLight {
             solid_angle: omega as f32,
             spectrum: SunSpectrum::new(t, theta_s, scale * factor as f32),
             delta,
-            sphere: SceneSphere::default(),
         })
-    }
-
-    /// Whether the sun is a directional (delta) light.
-    pub(crate) fn is_delta(&self) -> bool {
-        self.delta
     }
 
     #[cfg(test)]
@@ -159,10 +151,6 @@ impl SunLight {
         &self.spectrum
     }
 
-    pub(crate) fn set_scene_sphere(&mut self, c: Vec3, r: f32) {
-        self.sphere = SceneSphere::new(c, r);
-    }
-
     /// Whether the world direction `d` is on the disk.
     #[inline]
     fn on_disk(&self, d: Vec3) -> bool {
@@ -170,66 +158,63 @@ impl SunLight {
         d.dot(self.dir) > 0.0
             && d.cross(self.dir).length_squared() <= self.sin2_max * (1.0 + EDGE_MARGIN)
     }
+}
 
-    /// Radiance seen along the escaping direction `dir` (zero off the disk).
-    pub(crate) fn le(&self, dir: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
-        if self.delta || !self.on_disk(dir) {
-            return SampledSpectrum::ZERO;
+impl InfiniteLight for SunLight {
+    /// Uniform in the disk's cone of directions; the sun's direction when it is a delta light.
+    fn sample_wi(&self, _: Vec3, u: Vec2) -> Option<Vec3> {
+        if self.spectrum.scale == 0.0 {
+            return None;
         }
-        self.spectrum.sample(wl)
+        if self.delta {
+            return Some(self.dir);
+        }
+        let omc = u.x * self.one_minus_cos;
+        let cos_theta = 1.0 - omc;
+        let sin_theta = (omc * (2.0 - omc)).max(0.0).sqrt();
+        let (s, c) = (2.0 * PI * u.y).sin_cos();
+        let wi = Vec3::new(sin_theta * c, sin_theta * s, cos_theta);
+        Some(self.frame.to_world(wi).normalize())
     }
 
-    /// Solid-angle density of [`Self::sample_li`] producing `wi` (0 for a delta sun).
-    pub(crate) fn pdf_li(&self, wi: Vec3) -> f32 {
+    /// Uniform over the disk (0 for a delta sun).
+    fn pdf_li(&self, _: Vec3, wi: Vec3) -> f32 {
         if self.delta || self.spectrum.scale == 0.0 || !self.on_disk(wi) {
             return 0.0;
         }
         1.0 / self.solid_angle
     }
 
-    pub(crate) fn sample_li(
-        &self,
-        ctx: &LightSampleContext,
-        u: Vec2,
-        wl: &SampledWavelengths,
-    ) -> Option<LightLiSample> {
-        if self.spectrum.scale == 0.0 {
-            return None;
+    /// Radiance seen along the escaping direction `dir` (zero off the disk).
+    fn le(&self, dir: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
+        if self.delta || !self.on_disk(dir) {
+            return SampledSpectrum::ZERO;
         }
-        let (wi, pdf, l) = if self.delta {
-            (self.dir, 1.0, self.spectrum.sample(wl))
+        self.spectrum.sample(wl)
+    }
+
+    /// Whether the sun is a directional (delta) light.
+    fn is_delta(&self) -> bool {
+        self.delta
+    }
+
+    /// The radiance on the disk, or a delta sun's irradiance.
+    fn li(&self, wi: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
+        if self.delta {
+            self.spectrum.sample(wl)
         } else {
-            let omc = u.x * self.one_minus_cos;
-            let cos_theta = 1.0 - omc;
-            let sin_theta = (omc * (2.0 - omc)).max(0.0).sqrt();
-            let (s, c) = (2.0 * PI * u.y).sin_cos();
-            let wi = self
-                .frame
-                .to_world(Vec3::new(sin_theta * c, sin_theta * s, cos_theta))
-                .normalize();
-            let pdf = self.pdf_li(wi);
-            if pdf == 0.0 {
-                return None;
-            }
-            (wi, pdf, self.le(wi, wl))
-        };
-        Some(LightLiSample {
-            l,
-            wi,
-            pdf,
-            p_light: self.sphere.beyond(ctx.p, wi),
-            is_delta: self.delta,
-        })
+            self.le(wi, wl)
+        }
     }
 
     /// Power through the scene's bounding disk: π r² E, with E the irradiance's spectral mean.
-    pub(crate) fn power(&self) -> f32 {
+    fn power(&self, r: f32) -> f32 {
         let e = if self.delta {
             self.spectrum.mean()
         } else {
             self.spectrum.mean() * self.solid_angle
         };
-        PI * self.sphere.radius * self.sphere.radius * e
+        PI * r * r * e
     }
 }
 
@@ -237,7 +222,7 @@ impl SunLight {
 mod tests {
     use super::super::test_util::{mean_and_sigma, wl};
     use super::*;
-    use crate::light::Light;
+    use crate::light::{Light, LightSampleContext};
     use crate::math::Pcg32;
 
     #[test]
@@ -250,7 +235,7 @@ mod tests {
             "{}",
             sun.solid_angle()
         );
-        let light = Light::Sun(sun.clone());
+        let light = Light::Sun(sun.clone().into());
         assert!(light.is_infinite() && !light.is_delta());
         let ctx = LightSampleContext {
             p: Vec3::ZERO,
@@ -291,7 +276,8 @@ mod tests {
         };
         let mut rng = Pcg32::new(8, 0);
         let mut irr = |radius_scale: f32| {
-            let light = Light::Sun(SunLight::new(dir, 0.2, 3.0, 1.0, radius_scale).unwrap());
+            let sun = SunLight::new(dir, 0.2, 3.0, 1.0, radius_scale).unwrap();
+            let light = Light::Sun(sun.into());
             mean_and_sigma((0..20_000).map(|_| {
                 let s = light.sample_li(&ctx, rng.next_vec2(), &wl(), &[]).unwrap();
                 (s.l[1] * s.wi.dot(n_surf).max(0.0) / s.pdf) as f64

@@ -3,14 +3,10 @@
 
 use super::Builder;
 use crate::light::Light;
-use crate::plugin::{registry, Node, SceneError, Warning};
+use crate::plugin::{registry, Node, SceneError};
 
-pub(crate) fn add_emitter(
-    b: &mut Builder,
-    node: &Node,
-    warnings: &mut Vec<Warning>,
-) -> Result<(), SceneError> {
-    b.lights.extend(registry::emitter(node, None, warnings)?);
+pub(crate) fn add_emitter(b: &mut Builder, node: &Node) -> Result<(), SceneError> {
+    b.lights.extend(registry::emitter(node, None, b.warnings)?);
     Ok(())
 }
 
@@ -35,6 +31,7 @@ pub(crate) fn area_light(node: &Node, shape_index: u32) -> Result<Light, SceneEr
 
 #[cfg(test)]
 mod tests {
+    use crate::light::infinite::InfiniteLight;
     use crate::light::Light;
     use crate::scene::build::{load_scene, load_scene_str, LoadOptions};
     use crate::scene::mitsuba::Warning;

@@ -6,7 +6,7 @@ use crate::bsdf::Material;
 use crate::plugin::{registry, Node, SceneError, Warning};
 use std::sync::Arc;
 
-impl Builder {
+impl Builder<'_> {
     /// Mitsuba's implicit BSDF for shapes without one: a diffuse 0.5.
     pub(crate) fn default_material(&mut self) -> u32 {
         if let Some(m) = self.default_material {
@@ -20,16 +20,12 @@ impl Builder {
 }
 
 /// The material index for a BSDF node, building it once per node (shared through `<ref>`).
-pub(crate) fn material_for(
-    b: &mut Builder,
-    node: &Arc<Node>,
-    warnings: &mut Vec<Warning>,
-) -> Result<u32, SceneError> {
+pub(crate) fn material_for(b: &mut Builder, node: &Arc<Node>) -> Result<u32, SceneError> {
     let key = Arc::as_ptr(node);
     if let Some(&i) = b.material_ids.get(&key) {
         return Ok(i);
     }
-    let m = build_material(node, warnings)?;
+    let m = build_material(node, b.warnings)?;
     b.materials.push(m);
     let i = b.materials.len() as u32 - 1;
     b.material_ids.insert(key, i);

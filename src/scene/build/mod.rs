@@ -88,9 +88,8 @@ fn finish(
     Ok(scene)
 }
 
-/// Everything collected while walking the tree.
-#[derive(Default)]
-pub(crate) struct Builder {
+/// Everything collected while walking the tree, and where its warnings go.
+pub(crate) struct Builder<'w> {
     pub shapes: Vec<crate::shape::Shape>,
     pub shape_material: Vec<u32>,
     pub shape_light: Vec<Option<u32>>,
@@ -102,6 +101,33 @@ pub(crate) struct Builder {
     pub default_material: Option<u32>,
     /// The black diffuse BSDF of emitters declared without a BSDF (shared).
     pub black_material: Option<u32>,
+    /// The load's warnings, in the order they arise (kept by the caller if building fails).
+    pub warnings: &'w mut Vec<Warning>,
+}
+
+impl<'w> Builder<'w> {
+    fn new(warnings: &'w mut Vec<Warning>) -> Self {
+        Builder {
+            shapes: Vec::new(),
+            shape_material: Vec::new(),
+            shape_light: Vec::new(),
+            shape_labels: Vec::new(),
+            materials: Vec::new(),
+            material_ids: HashMap::new(),
+            lights: Vec::new(),
+            default_material: None,
+            black_material: None,
+            warnings,
+        }
+    }
+
+    /// A warning located at `node`.
+    fn warn(&mut self, node: &Node, message: impl Into<String>) {
+        self.warnings.push(Warning {
+            loc: node.loc.clone(),
+            message: message.into(),
+        });
+    }
 }
 
 fn build_scene(
@@ -109,7 +135,7 @@ fn build_scene(
     opts: &LoadOptions,
     warnings: &mut Vec<Warning>,
 ) -> Result<Scene, SceneError> {
-    let mut b = Builder::default();
+    let mut b = Builder::new(warnings);
     let mut sensor: Option<&Arc<Node>> = None;
     let mut integrator = IntegratorSettings::default();
     for child in &root.children {
@@ -117,49 +143,39 @@ fn build_scene(
         match node.tag {
             Tag::Shape if node.plugin == "shapegroup" => {
                 if !shapes::is_instanced(root, node) {
-                    warnings.push(Warning {
-                        loc: node.loc.clone(),
-                        message: format!(
-                            "{} is never instanced; it shows nothing",
-                            node.describe()
-                        ),
-                    });
+                    let what = node.describe();
+                    b.warn(node, format!("{what} is never instanced; it shows nothing"));
                 }
             }
-            Tag::Shape => shapes::add_shape(&mut b, node, warnings)?,
+            Tag::Shape => shapes::add_shape(&mut b, node)?,
             // Declared for shapes that attach it with <ref id="…"/>.
             Tag::Emitter if node.plugin == "area" && node.id.is_some() => {
                 if !attached_anywhere(root, node) {
-                    warnings.push(Warning {
-                        loc: node.loc.clone(),
-                        message: format!(
-                            "{} is attached to no shape; it emits nothing",
-                            node.describe()
-                        ),
-                    });
+                    let what = node.describe();
+                    b.warn(
+                        node,
+                        format!("{what} is attached to no shape; it emits nothing"),
+                    );
                 }
             }
-            Tag::Emitter => emitters::add_emitter(&mut b, node, warnings)?,
+            Tag::Emitter => emitters::add_emitter(&mut b, node)?,
             Tag::Sensor => {
                 if sensor.is_some() {
-                    warnings.push(Warning {
-                        loc: node.loc.clone(),
-                        message: "only the first sensor is used".into(),
-                    });
+                    b.warn(node, "only the first sensor is used");
                 } else {
                     sensor = Some(node);
                 }
             }
-            Tag::Integrator => integrator = registry::integrator(node, warnings)?,
+            Tag::Integrator => integrator = registry::integrator(node, b.warnings)?,
             // Declared for later <ref>s; built when referenced.
             Tag::Bsdf | Tag::Texture => {}
-            _ => warnings.push(Warning {
-                loc: node.loc.clone(),
-                message: format!(
-                    "{} is not supported by ophis and is ignored",
-                    node.describe()
-                ),
-            }),
+            _ => {
+                let what = node.describe();
+                b.warn(
+                    node,
+                    format!("{what} is not supported by ophis and is ignored"),
+                );
+            }
         }
     }
 
@@ -170,7 +186,7 @@ fn build_scene(
         let n = &child.node;
         let untouched = n.props.unqueried().len() == n.props.len();
         if n.tag == Tag::Bsdf && untouched && !b.material_ids.contains_key(&Arc::as_ptr(n)) {
-            materials::build_material(n, warnings)?;
+            materials::build_material(n, b.warnings)?;
         }
     }
 
@@ -179,7 +195,7 @@ fn build_scene(
         film,
         mut sampler,
     } = match sensor {
-        Some(s) => registry::sensor(s, opts.resolution, warnings)?,
+        Some(s) => registry::sensor(s, opts.resolution, b.warnings)?,
         None => {
             // Not Mitsuba's (it refuses a scene without a sensor): a 45° pinhole at the origin.
             let film = match opts.resolution {
@@ -234,10 +250,7 @@ fn build_scene(
     let powers: Vec<f32> = b.lights.iter().map(|l| l.power(&b.shapes)).collect();
     let light_sampler = LightSampler::new(&powers);
     if b.lights.is_empty() {
-        warnings.push(Warning {
-            loc: root.loc.clone(),
-            message: "the scene has no emitters: the image will be black".into(),
-        });
+        b.warn(root, "the scene has no emitters: the image will be black");
     }
     Ok(Scene {
         shapes: b.shapes,

@@ -13,18 +13,14 @@ use super::Builder;
 use crate::bsdf::Material;
 use crate::math::Transform;
 use crate::plugin::registry;
-use crate::scene::mitsuba::{Node, SceneError, Tag, Warning};
+use crate::scene::mitsuba::{Node, SceneError, Tag};
 use crate::shape::Parts;
 use crate::spectrum::Spectrum;
 use crate::texture::SpectrumTexture;
 use std::sync::Arc;
 
-pub(crate) fn add_shape(
-    b: &mut Builder,
-    node: &Node,
-    warnings: &mut Vec<Warning>,
-) -> Result<(), SceneError> {
-    add_shape_at(b, node, &Transform::IDENTITY, warnings)
+pub(crate) fn add_shape(b: &mut Builder, node: &Node) -> Result<(), SceneError> {
+    add_shape_at(b, node, &Transform::IDENTITY)
 }
 
 /// Whether an `instance` among the scene's shapes refers to `group`.
@@ -35,12 +31,7 @@ pub(crate) fn is_instanced(root: &Node, group: &Arc<Node>) -> bool {
 }
 
 /// The shapes of the group an `instance` refers to, placed by `to_world`.
-fn instance(
-    b: &mut Builder,
-    node: &Node,
-    to_world: &Transform,
-    warnings: &mut Vec<Warning>,
-) -> Result<(), SceneError> {
+fn instance(b: &mut Builder, node: &Node, to_world: &Transform) -> Result<(), SceneError> {
     let groups: Vec<&Arc<Node>> = node
         .children_with_tag(Tag::Shape)
         .filter(|g| g.plugin == "shapegroup")
@@ -57,14 +48,12 @@ fn instance(
     };
     for c in &node.children {
         if !Arc::ptr_eq(&c.node, group) {
-            warnings.push(Warning {
-                loc: c.node.loc.clone(),
-                message: format!(
-                    "{} inside {} is ignored",
-                    c.node.describe(),
-                    node.describe()
-                ),
-            });
+            let what = format!(
+                "{} inside {} is ignored",
+                c.node.describe(),
+                node.describe()
+            );
+            b.warn(&c.node, what);
         }
     }
     for c in &group.children {
@@ -80,49 +69,38 @@ fn instance(
                     ),
                 ))
             }
-            (Tag::Shape, _) => add_shape_at(b, s, to_world, warnings)?,
-            _ => warnings.push(Warning {
-                loc: s.loc.clone(),
-                message: format!(
-                    "{} inside {} is ignored (a shapegroup holds shapes)",
-                    s.describe(),
-                    group.describe()
-                ),
-            }),
+            (Tag::Shape, _) => add_shape_at(b, s, to_world)?,
+            _ => {
+                let (what, group) = (s.describe(), group.describe());
+                b.warn(
+                    s,
+                    format!("{what} inside {group} is ignored (a shapegroup holds shapes)"),
+                );
+            }
         }
     }
     Ok(())
 }
 
 /// A shape whose own `to_world` is applied after `parent` (an instance's placement).
-fn add_shape_at(
-    b: &mut Builder,
-    node: &Node,
-    parent: &Transform,
-    warnings: &mut Vec<Warning>,
-) -> Result<(), SceneError> {
+fn add_shape_at(b: &mut Builder, node: &Node, parent: &Transform) -> Result<(), SceneError> {
     match node.plugin.as_str() {
         "instance" => {
             let to_world =
                 parent.compose(&node.props.get_transform("to_world", Transform::IDENTITY)?);
-            return instance(b, node, &to_world, warnings);
+            return instance(b, node, &to_world);
         }
         // Built through the instances that refer to it.
         "shapegroup" => return Ok(()),
         _ => {}
     }
-    let parts = registry::shape(node, *parent, warnings)?;
-    add_parts(b, node, parts, warnings)
+    let parts = registry::shape(node, *parent, b.warnings)?;
+    add_parts(b, node, parts)
 }
 
 /// Adds the shapes made from one `<shape>` element, each part with the nested BSDF of its name
 /// (the unnamed one otherwise) and the element's emitter.
-fn add_parts(
-    b: &mut Builder,
-    node: &Node,
-    parts: Parts,
-    warnings: &mut Vec<Warning>,
-) -> Result<(), SceneError> {
+fn add_parts(b: &mut Builder, node: &Node, parts: Parts) -> Result<(), SceneError> {
     let part_names: Vec<&str> = parts.iter().filter_map(|(p, _)| *p).collect();
     let mut bsdf_node = None;
     let mut part_bsdfs: Vec<(&str, &std::sync::Arc<Node>)> = Vec::new();
@@ -135,14 +113,14 @@ fn add_parts(
             }
             Tag::Bsdf if bsdf_node.is_none() && part.is_none() => bsdf_node = Some(&c.node),
             Tag::Emitter if emitter_node.is_none() => emitter_node = Some(&c.node),
-            _ => warnings.push(Warning {
-                loc: c.node.loc.clone(),
-                message: format!(
+            _ => {
+                let what = format!(
                     "{} inside {} is ignored",
                     c.node.describe(),
                     node.describe()
-                ),
-            }),
+                );
+                b.warn(&c.node, what);
+            }
         }
     }
     let label = node.id.clone().unwrap_or_else(|| node.plugin.clone());
@@ -152,7 +130,7 @@ fn add_parts(
             .find(|(n, _)| Some(*n) == part)
             .map(|(_, n)| *n);
         let material = match (own.or(bsdf_node), emitter_node) {
-            (Some(n), _) => material_for(b, n, warnings)?,
+            (Some(n), _) => material_for(b, n)?,
             // Mitsuba 3 gives an emitter without a BSDF a black one (shape.cpp): lights do not
             // reflect other lights.
             (None, Some(_)) => *b.black_material.get_or_insert_with(|| {

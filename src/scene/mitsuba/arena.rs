@@ -9,8 +9,7 @@
 use std::collections::HashMap;
 use std::sync::Arc;
 
-use super::{Child, Location, Node, SceneError, Tag};
-use crate::plugin::Properties;
+use super::{Child, Location, Node, SceneError};
 
 /// What a child slot points to.
 #[derive(Debug)]
@@ -31,15 +30,7 @@ pub(super) struct PendingChild {
 }
 
 /// An object read but not yet linked.
-#[derive(Debug)]
-pub(super) struct Pending {
-    pub tag: Tag,
-    pub plugin: String,
-    pub id: Option<String>,
-    pub props: Properties,
-    pub children: Vec<PendingChild>,
-    pub loc: Location,
-}
+pub(super) type Pending = Node<PendingChild>;
 
 /// Every object of a scene (its includes too) and the ids declared.
 #[derive(Default)]
@@ -130,22 +121,11 @@ impl Arena {
                 1 => {
                     stack.pop();
                     let obj = self.objects[top].take().expect("built once");
-                    let children = obj
-                        .children
-                        .iter()
-                        .map(|c| Child {
-                            name: c.name.clone(),
-                            node: built[child_index(c)].clone().expect("children first"),
-                        })
-                        .collect();
-                    built[top] = Some(Arc::new(Node {
-                        tag: obj.tag,
-                        plugin: obj.plugin,
-                        id: obj.id,
-                        props: obj.props,
-                        children,
-                        loc: obj.loc,
-                    }));
+                    let node = obj.map_children(|c| Child {
+                        node: built[child_index(&c)].clone().expect("children first"),
+                        name: c.name,
+                    });
+                    built[top] = Some(Arc::new(node));
                     state[top] = 2;
                 }
                 _ => {

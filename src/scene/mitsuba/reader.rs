@@ -134,6 +134,18 @@ impl Reader {
         }
     }
 
+    /// An element with its attributes substituted, checked against those it takes.
+    fn open(
+        &mut self,
+        node: roxmltree::Node,
+        src: &Source,
+        allowed: &[&str],
+    ) -> Result<Elem, SceneError> {
+        let e = Elem::new(node, src, &self.params)?;
+        self.check_attrs(&e, allowed);
+        Ok(e)
+    }
+
     /// Checks `<scene version="…">` and decides whether the file needs the 0.6 upgrade.
     fn scene_root(
         &mut self,
@@ -195,7 +207,11 @@ impl Reader {
         }
         match tag {
             "default" => self.default(node, src),
-            "include" => self.include(node, src, b, depth),
+            "include" => {
+                let e = self.open(node, src, &["filename"])?;
+                // Looked up with the including file's folder first.
+                self.searching(src.dir.clone(), |r| r.include(src, &e, b, depth))
+            }
             "path" => self.path(node, src, b),
             "ref" => self.reference(node, src, b),
             "alias" => self.alias(node, src),
@@ -264,8 +280,7 @@ impl Reader {
         tag: Tag,
         depth: usize,
     ) -> Result<(), SceneError> {
-        let e = Elem::new(node, src, &self.params)?;
-        self.check_attrs(&e, &["type", "id", "name"]);
+        let e = self.open(node, src, &["type", "id", "name"])?;
         let plugin = e.require("type")?.value.clone();
         let id = e.get("id").map(|a| a.value.clone());
         if id.as_deref() == Some("") || plugin.is_empty() {
@@ -297,8 +312,7 @@ impl Reader {
         src: &Source,
         b: &mut Builder,
     ) -> Result<(), SceneError> {
-        let e = Elem::new(node, src, &self.params)?;
-        self.check_attrs(&e, &["id", "name"]);
+        let e = self.open(node, src, &["id", "name"])?;
         self.no_children(node, src, &e);
         let id = &e.require("id")?.value;
         // An id declared later is linked once the whole scene is read.
@@ -310,16 +324,14 @@ impl Reader {
     }
 
     fn alias(&mut self, node: roxmltree::Node, src: &Source) -> Result<(), SceneError> {
-        let e = Elem::new(node, src, &self.params)?;
-        self.check_attrs(&e, &["id", "as"]);
+        let e = self.open(node, src, &["id", "as"])?;
         let target = self.lookup(&e, e.require("id")?)?;
         let new_id = e.require("as")?.value.clone();
         self.register(&new_id, target, &e)
     }
 
     fn default(&mut self, node: roxmltree::Node, src: &Source) -> Result<(), SceneError> {
-        let e = Elem::new(node, src, &self.params)?;
-        self.check_attrs(&e, &["name", "value"]);
+        let e = self.open(node, src, &["name", "value"])?;
         let name = e.require("name")?;
         let value = e.require("value")?.value.clone();
         if name.value.is_empty()
@@ -341,25 +353,17 @@ impl Reader {
         Ok(())
     }
 
-    fn include(
-        &mut self,
-        node: roxmltree::Node,
-        src: &Source,
-        b: &mut Builder,
-        depth: usize,
-    ) -> Result<(), SceneError> {
-        let e = Elem::new(node, src, &self.params)?;
-        self.check_attrs(&e, &["filename"]);
-        // Looked up with the including file's folder first; what the included file adds to
-        // the search list ends with it.
+    /// Runs `f` with `dir` searched first; what `f` adds to the search list ends with it.
+    fn searching<T>(&mut self, dir: PathBuf, f: impl FnOnce(&mut Self) -> T) -> T {
         let saved = self.search.clone();
-        self.search.prepend(src.dir.clone());
-        let r = self.include_inner(src, &e, b, depth);
+        self.search.prepend(dir);
+        let r = f(self);
         self.search = saved;
         r
     }
 
-    fn include_inner(
+    /// `<include filename="…"/>`: the objects of another file, read into `b`.
+    fn include(
         &mut self,
         src: &Source,
         e: &Elem,
@@ -396,8 +400,7 @@ impl Reader {
 
     /// `<path value="dir"/>`: a folder searched first from now on (see `resolver.rs`).
     fn path(&mut self, node: roxmltree::Node, src: &Source, b: &Builder) -> Result<(), SceneError> {
-        let e = Elem::new(node, src, &self.params)?;
-        self.check_attrs(&e, &["value"]);
+        let e = self.open(node, src, &["value"])?;
         self.no_children(node, src, &e);
         if b.tag != Tag::Scene {
             return Err(e.err(format!(

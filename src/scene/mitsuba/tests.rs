@@ -1,6 +1,6 @@
 //! Reader tests: objects, references, includes, the 0.6 upgrade, errors and warnings.
 
-use super::tests_values::{load, scene};
+use super::tests_values::{err_at, load, scene};
 use super::*;
 use std::path::PathBuf;
 
@@ -13,6 +13,14 @@ impl TempDir {
         let _ = std::fs::remove_dir_all(&p);
         std::fs::create_dir_all(&p).unwrap();
         TempDir(p)
+    }
+    /// A fresh folder holding the named files, each with placeholder contents.
+    pub(super) fn with_files(tag: &str, names: &[&str]) -> TempDir {
+        let d = TempDir::new(tag);
+        for name in names {
+            d.write(name, "x");
+        }
+        d
     }
     pub(super) fn write(&self, name: &str, text: &str) -> PathBuf {
         let p = self.0.join(name);
@@ -89,35 +97,22 @@ fn spectrum_with_type_is_an_object() {
 
 #[test]
 fn reference_errors() {
-    let e = load(&scene(
-        "<shape type=\"sphere\">\n<ref id=\"nope\"/>\n</shape>",
-    ))
-    .unwrap_err()
-    .to_string();
-    assert!(
-        e.starts_with("test.xml:3:") && e.contains("unknown id 'nope'"),
-        "{e}"
-    );
-    let e = load(&scene(
-        "<bsdf type=\"diffuse\" id=\"a\"/>\n<bsdf type=\"diffuse\" id=\"a\"/>",
-    ))
-    .unwrap_err()
-    .to_string();
-    assert!(
-        e.starts_with("test.xml:3:") && e.contains("duplicate id 'a'"),
-        "{e}"
-    );
+    let unknown = "<shape type=\"sphere\">\n<ref id=\"nope\"/>\n</shape>";
+    err_at(unknown, "test.xml:3:", "unknown id 'nope'");
+    let twice = "<bsdf type=\"diffuse\" id=\"a\"/>\n<bsdf type=\"diffuse\" id=\"a\"/>";
+    let e = err_at(twice, "test.xml:3:", "duplicate id 'a'");
+    // The error also says where the id was first given.
     assert!(e.contains("test.xml:2:1"), "{e}");
-    let e = load(&scene(
+    err_at(
         "<bsdf type=\"diffuse\" id=\"a\"/>\n<alias id=\"a\" as=\"a\"/>",
-    ))
-    .unwrap_err()
-    .to_string();
-    assert!(e.contains("duplicate id 'a'"), "{e}");
-    let e = load(&scene("<alias id=\"zz\" as=\"b\"/>"))
-        .unwrap_err()
-        .to_string();
-    assert!(e.contains("unknown id 'zz'"), "{e}");
+        "test.xml:",
+        "duplicate id 'a'",
+    );
+    err_at(
+        "<alias id=\"zz\" as=\"b\"/>",
+        "test.xml:",
+        "unknown id 'zz'",
+    );
 }
 
 #[test]
@@ -165,6 +160,25 @@ fn includes_nest_relative_and_detect_cycles() {
 
 #[test]
 fn old_and_new_spellings_give_the_same_tree() {
+    // The 3.0 file is the 0.6 file with each name of this table respelt (and the version).
+    let respelt = [
+        ("version=\"0.5.0\"", "version=\"3.0.0\""),
+        ("maxDepth", "max_depth"),
+        ("rrDepth", "rr_depth"),
+        ("fovAxis", "fov_axis"),
+        ("toWorld", "to_world"),
+        ("lookAt", "lookat"),
+        ("sampleCount", "sample_count"),
+        ("intIOR", "int_ior"),
+        ("extIOR", "ext_ior"),
+        ("alphaU", "alpha_u"),
+        (
+            "<srgb name=\"diffuseReflectance\"",
+            "<rgb name=\"diffuse_reflectance\"",
+        ),
+        ("specularReflectance", "specular_reflectance"),
+        ("sigmaT_0", "sigma_t_0"),
+    ];
     let v06 = r##"<scene version="0.5.0">
   <integrator type="path"><integer name="maxDepth" value="8"/><integer name="rrDepth" value="3"/></integrator>
   <sensor type="perspective">
@@ -179,22 +193,12 @@ fn old_and_new_spellings_give_the_same_tree() {
   </bsdf>
   <medium type="heterogeneous" name="sigmaT_0"/>
 </scene>"##;
-    let v3 = r##"<scene version="3.0.0">
-  <integrator type="path"><integer name="max_depth" value="8"/><integer name="rr_depth" value="3"/></integrator>
-  <sensor type="perspective">
-    <string name="fov_axis" value="x"/>
-    <transform name="to_world"><lookat origin="0 0 5" target="0 0 0" up="0 1 0"/></transform>
-    <sampler type="independent"><integer name="sample_count" value="4"/></sampler>
-  </sensor>
-  <bsdf type="roughplastic" id="m">
-    <float name="int_ior" value="1.5"/><float name="ext_ior" value="1"/><float name="alpha_u" value="0.1"/>
-    <rgb name="diffuse_reflectance" value="#808080"/>
-    <rgb name="specular_reflectance" value="1"/>
-  </bsdf>
-  <medium type="heterogeneous" name="sigma_t_0"/>
-</scene>"##;
+    let v3 = respelt
+        .iter()
+        .fold(v06.to_string(), |xml, (old, new)| xml.replace(old, new));
+    assert!(!v3.contains("Depth") && v3.contains("sigma_t_0"), "{v3}");
     let (a, wa) = load(v06).unwrap();
-    let (b, wb) = load(v3).unwrap();
+    let (b, wb) = load(&v3).unwrap();
     assert!(wa.is_empty() && wb.is_empty(), "{wa:?} {wb:?}");
     assert!(same(&a, &b), "{a:#?}\n{b:#?}");
     let bsdf = a.child("sigma_t_0").map(|_| &a.children[2].node).unwrap();
@@ -215,7 +219,7 @@ fn unused_parameters_are_listed_exactly() {
     .unwrap();
     let s = &root.children[0].node;
     s.props.get_float("radius", 1.0).unwrap();
-    s.props.get_bool("flip_normals", false).unwrap();
+    s.props.get_bool_opt("flip_normals").unwrap();
     let w = check_unused(&root);
     let names: Vec<_> = w.iter().map(|w| (w.loc.line, w.message.clone())).collect();
     assert_eq!(
@@ -283,22 +287,13 @@ fn structural_errors() {
         let e = load(xml).unwrap_err().to_string();
         assert!(e.contains(needle), "{xml:?} → {e}");
     }
-    let e = load(&scene(
+    // A parameter given twice, as a value and then as an object too.
+    for body in [
         "<float name=\"a\" value=\"1\"/>\n<float name=\"a\" value=\"2\"/>",
-    ))
-    .unwrap_err()
-    .to_string();
-    assert!(
-        e.starts_with("test.xml:3:1:") && e.contains("given twice"),
-        "{e}"
-    );
-    let e = load(&scene("<shape type=\"x\"><float name=\"bsdf\" value=\"1\"/>\n<bsdf type=\"d\" name=\"bsdf\"/></shape>"))
-        .unwrap_err()
-        .to_string();
-    assert!(
-        e.starts_with("test.xml:3:1:") && e.contains("given twice"),
-        "{e}"
-    );
+        "<shape type=\"x\"><float name=\"bsdf\" value=\"1\"/>\n<bsdf type=\"d\" name=\"bsdf\"/></shape>",
+    ] {
+        err_at(body, "test.xml:3:1:", "given twice");
+    }
 }
 
 #[test]

@@ -2,7 +2,7 @@
 //! UTF-16 files, and warnings kept when loading fails.
 
 use super::tests::TempDir;
-use super::tests_values::{load, scene};
+use super::tests_values::{err_at, load, scene};
 use super::*;
 
 #[test]
@@ -26,30 +26,13 @@ fn a_reference_may_precede_its_object() {
 
 #[test]
 fn reference_cycles_and_unknown_ids_are_located_errors() {
-    let e = load(&scene(
-        "<bsdf type=\"twosided\" id=\"a\">\n<ref id=\"b\"/></bsdf>\n<bsdf type=\"twosided\" id=\"b\">\n<ref id=\"a\"/></bsdf>",
-    ))
-    .unwrap_err()
-    .to_string();
-    assert!(
-        e.contains("reference cycle") && e.starts_with("test.xml:"),
-        "{e}"
-    );
-    let e = load(&scene(
-        "<bsdf type=\"twosided\" id=\"s\">\n<ref id=\"s\"/></bsdf>",
-    ))
-    .unwrap_err()
-    .to_string();
-    assert!(e.starts_with("test.xml:3:1") && e.contains("cycle"), "{e}");
-    let e = load(&scene(
-        "<shape type=\"sphere\">\n  <ref id=\"gone\"/></shape>",
-    ))
-    .unwrap_err()
-    .to_string();
-    assert!(
-        e.starts_with("test.xml:3:3") && e.contains("unknown id 'gone'"),
-        "{e}"
-    );
+    let cycle = "<bsdf type=\"twosided\" id=\"a\">\n<ref id=\"b\"/></bsdf>\n\
+                 <bsdf type=\"twosided\" id=\"b\">\n<ref id=\"a\"/></bsdf>";
+    err_at(cycle, "test.xml:", "reference cycle");
+    let itself = "<bsdf type=\"twosided\" id=\"s\">\n<ref id=\"s\"/></bsdf>";
+    err_at(itself, "test.xml:3:1", "cycle");
+    let gone = "<shape type=\"sphere\">\n  <ref id=\"gone\"/></shape>";
+    err_at(gone, "test.xml:3:3", "unknown id 'gone'");
 }
 
 #[test]
@@ -75,10 +58,7 @@ fn filename(root: &Node, i: usize) -> std::path::PathBuf {
 
 #[test]
 fn path_folders_are_searched_first_and_must_exist() {
-    let d = TempDir::new("path");
-    d.write("meshes/a.ply", "x");
-    d.write("textures/t.png", "x");
-    d.write("other/t.png", "x");
+    let d = TempDir::with_files("path", &["meshes/a.ply", "textures/t.png", "other/t.png"]);
     let main = d.write(
         "scene/main.xml",
         &scene(
@@ -112,12 +92,10 @@ fn path_folders_are_searched_first_and_must_exist() {
 
 #[test]
 fn file_names_in_included_files_resolve_against_the_scene_folder() {
-    let d = TempDir::new("incpath");
     // Mitsuba finds the mesh next to the scene, not next to the included file, and ophis
     // falls back to the included file's folder only where the scene's has nothing.
-    d.write("mesh.ply", "scene's");
-    d.write("parts/mesh.ply", "part's");
-    d.write("parts/only-here.ply", "x");
+    let meshes = ["mesh.ply", "parts/mesh.ply", "parts/only-here.ply"];
+    let d = TempDir::with_files("incpath", &meshes);
     d.write(
         "parts/objects.xml",
         &scene(

@@ -22,8 +22,16 @@ fn transform_of(ops: &str) -> Transform {
     root.props.get_transform_opt("t").unwrap().unwrap()
 }
 
-fn err_of(body: &str) -> String {
+pub(super) fn err_of(body: &str) -> String {
     load(&scene(body)).unwrap_err().to_string()
+}
+
+/// The error of loading a 3.0 scene with `body`, checked to start with `at` (the place:
+/// file:line:column or a prefix of it) and to mention `says`.
+pub(super) fn err_at(body: &str, at: &str, says: &str) -> String {
+    let e = err_of(body);
+    assert!(e.starts_with(at) && e.contains(says), "{body:?}: {e}");
+    e
 }
 
 #[test]
@@ -49,14 +57,17 @@ fn every_value_tag() {
     assert!(w.is_empty(), "{w:?}");
     let p = &root.props;
     assert_eq!(p.get_float("f", 0.0).unwrap(), -15.0);
-    assert_eq!(p.get_int("i", 0).unwrap(), 42);
-    assert!(!p.get_bool("b", true).unwrap());
-    assert_eq!(p.get_string("s", "").unwrap(), "hello, world");
+    assert_eq!(p.get_int_opt("i").unwrap(), Some(42));
+    assert_eq!(p.get_bool_opt("b").unwrap(), Some(false));
     assert_eq!(
-        p.get_point("p", Vec3::ZERO).unwrap(),
-        Vec3::new(1.0, 2.0, 3.0)
+        p.get_string_opt("s").unwrap().as_deref(),
+        Some("hello, world")
     );
-    assert_eq!(p.get_point("p1", Vec3::ZERO).unwrap(), Vec3::splat(2.0));
+    assert_eq!(
+        p.get_point_opt("p").unwrap(),
+        Some(Vec3::new(1.0, 2.0, 3.0))
+    );
+    assert_eq!(p.get_point_opt("p1").unwrap(), Some(Vec3::splat(2.0)));
     assert_eq!(
         p.get("v").unwrap().0,
         &Value::Vector(Vec3::new(1.0, 0.0, 3.0))
@@ -186,14 +197,14 @@ fn params_defaults_and_defines() {
 <string name="file" value="meshes/$name.obj"/>"#,
     );
     let (root, _) = load(&xml).unwrap();
-    assert_eq!(root.props.get_int("n", 0).unwrap(), 16);
+    assert_eq!(root.props.get_int_opt("n").unwrap(), Some(16));
     assert_eq!(
-        root.props.get_string("file", "").unwrap(),
-        "meshes/bunny.obj"
+        root.props.get_string_opt("file").unwrap().as_deref(),
+        Some("meshes/bunny.obj")
     );
     let defines = [("spp".to_string(), "64".to_string())];
     let (root, _) = load_str(&xml, Path::new("test.xml"), &defines).unwrap();
-    assert_eq!(root.props.get_int("n", 0).unwrap(), 64);
+    assert_eq!(root.props.get_int_opt("n").unwrap(), Some(64));
     let e = err_of("<float name=\"x\" value=\"1\"/>\n<integer name=\"n\" value=\"$nope\"/>");
     assert!(e.starts_with("test.xml:3:"), "{e}");
     assert!(e.contains("'$nope'"), "{e}");

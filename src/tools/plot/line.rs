@@ -2,8 +2,8 @@
 //! frame and a legend (the R(λ) curves of `ophis thinfilm --plot`).
 
 use super::{
-    draw_legend, draw_pieces, font, text_scale, tick_label, tick_step, valid_range, Figure,
-    PlotError, Series, GRID,
+    draw_legend, draw_pieces, font, tick_label, tick_step, valid_range, Figure, Plot, PlotError,
+    Series, GRID,
 };
 use plotters::prelude::*;
 
@@ -146,12 +146,6 @@ impl LineChart {
         }
     }
 
-    /// Adds a series coloured from `PALETTE` in turn.
-    pub fn add(&mut self, label: &str, points: Vec<(f64, f64)>) -> &mut LineChart {
-        Series::push(&mut self.series, label, points);
-        self
-    }
-
     /// The ranges shown: the given ones when valid, else the finite data's extent (a unit
     /// interval around it when it is a single value, (0, 1) when there is none).
     pub(crate) fn ranges(&self) -> ((f64, f64), (f64, f64)) {
@@ -177,17 +171,17 @@ impl LineChart {
             .unwrap_or_else(|| fit(yl, yh));
         (xr, yr)
     }
+}
 
-    /// Draws the chart on a white `width` × `height` figure.
-    pub fn render(&self, width: u32, height: u32) -> Result<Figure, PlotError> {
-        let mut fig = Figure::new(width, height);
-        self.draw(&mut fig)?;
-        Ok(fig)
+impl Plot for LineChart {
+    type Area = PlotArea;
+
+    fn series_mut(&mut self) -> &mut Vec<Series> {
+        &mut self.series
     }
 
-    /// Draws the chart over all of `fig`; returns where the plotting rectangle went.
-    pub(crate) fn draw(&self, fig: &mut Figure) -> Result<PlotArea, PlotError> {
-        let s = text_scale(fig.width(), fig.height());
+    /// Draws the chart; returns where the plotting rectangle went.
+    fn draw_scaled(&self, fig: &mut Figure, s: f64) -> Result<PlotArea, PlotError> {
         let (xr, yr) = self.ranges();
         let root = fig.area();
         let mut chart = ChartBuilder::on(&root)

@@ -60,15 +60,41 @@ pub struct Series {
     pub points: Vec<(f64, f64)>,
 }
 
-impl Series {
-    /// Appends a series to a chart's `list`, coloured from `PALETTE` in turn.
-    fn push(list: &mut Vec<Series>, label: &str, points: Vec<(f64, f64)>) {
+/// What the line and the polar chart share: a list of series, and a figure to draw them on.
+pub trait Plot {
+    /// Where the data went on the figure.
+    type Area;
+
+    /// The series, in legend order.
+    fn series_mut(&mut self) -> &mut Vec<Series>;
+
+    /// Draws the chart over all of `fig`, its texts and lines scaled by `s`; returns where its
+    /// data went.
+    fn draw_scaled(&self, fig: &mut Figure, s: f64) -> Result<Self::Area, PlotError>;
+
+    /// Draws the chart over all of `fig`, scaled to the figure's size; returns where its data
+    /// went.
+    fn draw(&self, fig: &mut Figure) -> Result<Self::Area, PlotError> {
+        self.draw_scaled(fig, text_scale(fig.width(), fig.height()))
+    }
+
+    /// Adds a series coloured from `PALETTE` in turn.
+    fn add(&mut self, label: &str, points: Vec<(f64, f64)>) -> &mut Self {
+        let list = self.series_mut();
         let color = PALETTE[list.len() % PALETTE.len()];
         list.push(Series {
             label: label.into(),
             color,
             points,
         });
+        self
+    }
+
+    /// Draws the chart on a white `width` × `height` figure.
+    fn render(&self, width: u32, height: u32) -> Result<Figure, PlotError> {
+        let mut fig = Figure::new(width, height);
+        self.draw(&mut fig)?;
+        Ok(fig)
     }
 }
 

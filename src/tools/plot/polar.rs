@@ -4,8 +4,8 @@
 //! on both axes and the rings, spokes and lobes are drawn as curves in it.
 
 use super::{
-    draw_legend, draw_pieces, font, text_scale, tick_label, tick_step, Figure, PlotError, Series,
-    GRID, MID_GREY,
+    draw_legend, draw_pieces, font, tick_label, tick_step, Figure, Plot, PlotError, Series, GRID,
+    MID_GREY,
 };
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
@@ -59,12 +59,6 @@ impl PolarChart {
         }
     }
 
-    /// Adds a series coloured from `PALETTE` in turn.
-    pub fn add(&mut self, label: &str, points: Vec<(f64, f64)>) -> &mut PolarChart {
-        Series::push(&mut self.series, label, points);
-        self
-    }
-
     /// The value at the rim and the ring spacing: the given rim value, or the largest finite
     /// value rounded up to a whole ring.
     fn rim_and_step(&self) -> (f64, f64) {
@@ -83,17 +77,17 @@ impl PolarChart {
             (1.0, 0.25)
         }
     }
+}
 
-    /// Draws the chart on a white `width` × `height` figure.
-    pub fn render(&self, width: u32, height: u32) -> Result<Figure, PlotError> {
-        let mut fig = Figure::new(width, height);
-        self.draw(&mut fig)?;
-        Ok(fig)
+impl Plot for PolarChart {
+    type Area = PolarArea;
+
+    fn series_mut(&mut self) -> &mut Vec<Series> {
+        &mut self.series
     }
 
-    /// Draws the chart over all of `fig`; returns where the half disc went.
-    pub(crate) fn draw(&self, fig: &mut Figure) -> Result<PolarArea, PlotError> {
-        let s = text_scale(fig.width(), fig.height());
+    /// Draws the chart; returns where the half disc went.
+    fn draw_scaled(&self, fig: &mut Figure, s: f64) -> Result<PolarArea, PlotError> {
         let (label, pad) = (font(14.0 * s), (6.0 * s) as i32);
         let th = (16.0 * s) as i32;
         let (r_max, step) = self.rim_and_step();

@@ -84,11 +84,29 @@ fn axis(label: &str, scene: Option<&'static str>, pairs: &[(&str, &str)]) -> Axi
     }
 }
 
-fn shapes() -> Vec<Axis> {
-    ["sphere", "torus", "snake"]
+/// One axis per value of the define `key`, captioned by `label`.
+fn sweep(key: &str, values: &[&str], label: impl Fn(&str) -> String) -> Vec<Axis> {
+    values
         .iter()
-        .map(|s| axis(s, None, &[("shape", s)]))
+        .map(|v| axis(&label(v), None, &[(key, v)]))
         .collect()
+}
+
+/// One axis per shape the figure scenes offer (`-Dshape=…`).
+fn shapes(names: &[&str]) -> Vec<Axis> {
+    sweep("shape", names, str::to_string)
+}
+
+/// A sheet of thesis fig 4.8: the three-layer scene on a sphere and a torus, across `cols`.
+fn fig_4_8(name: &'static str, title: &'static str, cols: Vec<Axis>) -> Sheet {
+    Sheet {
+        name,
+        title,
+        scene: Some("thesis/fig4-6-skin.xml"),
+        defines: vec![],
+        rows: shapes(&["sphere", "torus"]),
+        cols,
+    }
 }
 
 /// Every sheet of the gallery, in the order `ophis gallery` renders them.
@@ -104,6 +122,13 @@ pub fn sheets() -> Vec<Sheet> {
     ];
     let thickness = ["300", "500", "700", "900", "1100"];
     let iors = ["1.3", "1.45", "1.56", "1.7", "1.9"];
+    let nm = |d: &str| format!("{d} nm");
+    // Each of two shapes rendered spectrally and in the thesis's three-wavelength mode.
+    let modes = ["sphere", "snake"].iter().flat_map(|s| {
+        ["spectral", "thesis"]
+            .map(|m| axis(&format!("{s} {m}"), None, &[("shape", s), ("mode", m)]))
+    });
+    let all_shapes = ["sphere", "torus", "snake"];
     vec![
         Sheet {
             name: "thesis-4.1-4.7",
@@ -111,36 +136,18 @@ pub fn sheets() -> Vec<Sheet> {
             scene: None,
             defines: vec![],
             rows: stages.iter().map(|(l, s)| axis(l, Some(s), &[])).collect(),
-            cols: shapes(),
+            cols: shapes(&all_shapes),
         },
-        Sheet {
-            name: "thesis-4.8-thickness",
-            title: "Thesis fig 4.8: film thickness (3 layers, n1 1.56)",
-            scene: Some("thesis/fig4-6-skin.xml"),
-            defines: vec![],
-            rows: vec![
-                axis("sphere", None, &[("shape", "sphere")]),
-                axis("torus", None, &[("shape", "torus")]),
-            ],
-            cols: thickness
-                .iter()
-                .map(|d| axis(&format!("{d} nm"), None, &[("thickness", d)]))
-                .collect(),
-        },
-        Sheet {
-            name: "thesis-4.8-ior",
-            title: "Thesis fig 4.8: film index (3 layers, 900 nm)",
-            scene: Some("thesis/fig4-6-skin.xml"),
-            defines: vec![],
-            rows: vec![
-                axis("sphere", None, &[("shape", "sphere")]),
-                axis("torus", None, &[("shape", "torus")]),
-            ],
-            cols: iors
-                .iter()
-                .map(|n| axis(&format!("n1 {n}"), None, &[("film_ior", n)]))
-                .collect(),
-        },
+        fig_4_8(
+            "thesis-4.8-thickness",
+            "Thesis fig 4.8: film thickness (3 layers, n1 1.56)",
+            sweep("thickness", &thickness, nm),
+        ),
+        fig_4_8(
+            "thesis-4.8-ior",
+            "Thesis fig 4.8: film index (3 layers, 900 nm)",
+            sweep("film_ior", &iors, |n| format!("n1 {n}")),
+        ),
         Sheet {
             name: "spectral-vs-thesis",
             title: "Spectral (exact) vs thesis mode (650/510/475 nm)",
@@ -151,42 +158,15 @@ pub fn sheets() -> Vec<Sheet> {
                 axis("4.4 film+bump", Some("thesis/fig4-4-film-bump.xml"), &[]),
                 axis("4.6 3 layers", Some("thesis/fig4-6-skin.xml"), &[]),
             ],
-            cols: vec![
-                axis(
-                    "sphere spectral",
-                    None,
-                    &[("shape", "sphere"), ("mode", "spectral")],
-                ),
-                axis(
-                    "sphere thesis",
-                    None,
-                    &[("shape", "sphere"), ("mode", "thesis")],
-                ),
-                axis(
-                    "snake spectral",
-                    None,
-                    &[("shape", "snake"), ("mode", "spectral")],
-                ),
-                axis(
-                    "snake thesis",
-                    None,
-                    &[("shape", "snake"), ("mode", "thesis")],
-                ),
-            ],
+            cols: modes.collect(),
         },
         Sheet {
             name: "ceig2023-fig5",
             title: "CEIG 2023 fig 5: thickness x inner index",
             scene: Some("ceig2023/fig5-range.xml"),
             defines: vec![],
-            rows: ["1.0", "2.0"]
-                .iter()
-                .map(|n| axis(&format!("n2 {n}"), None, &[("int_ior", n)]))
-                .collect(),
-            cols: ["300", "600", "1200"]
-                .iter()
-                .map(|d| axis(&format!("{d} nm"), None, &[("thickness", d)]))
-                .collect(),
+            rows: sweep("int_ior", &["1.0", "2.0"], |n| format!("n2 {n}")),
+            cols: sweep("thickness", &["300", "600", "1200"], nm),
         },
         Sheet {
             name: "ceig2023-fig6",
@@ -202,7 +182,7 @@ pub fn sheets() -> Vec<Sheet> {
             .iter()
             .map(|(l, s)| axis(l, None, &[("stage", s)]))
             .collect(),
-            cols: shapes(),
+            cols: shapes(&all_shapes),
         },
     ]
 }
