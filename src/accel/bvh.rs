@@ -175,19 +175,11 @@ impl Bvh {
     /// Closest hits of a batch of rays, as the traversal found them (with the leaf slot of a
     /// triangle, see [`RawHit`]); `out[i]` for `rays[i]`.
     pub fn intersect_raw_n(&self, shapes: &[Shape], rays: &[Ray], out: &mut [Option<RawHit>]) {
-        assert_eq!(rays.len(), out.len());
-        let mut raw = [None; 64];
-        for (rs, os) in rays.chunks(64).zip(out.chunks_mut(64)) {
-            let raw = &mut raw[..rs.len()];
-            isa::closest_n(self.isa, self.view(), shapes, rs, raw);
-            for (o, r) in os.iter_mut().zip(raw.iter()) {
-                *o = r.map(|f| RawHit {
-                    hit: self.hit(f),
-                    block: f.block,
-                    lane: f.lane,
-                });
-            }
-        }
+        self.closest_map(shapes, rays, out, |f, _| RawHit {
+            hit: self.hit(f),
+            block: f.block,
+            lane: f.lane,
+        });
     }
 
     /// The surface geometry of a hit found by [`Bvh::intersect_raw_n`] for `ray`.
@@ -223,27 +215,38 @@ impl Bvh {
         rays: &[Ray],
         out: &mut [Option<SurfaceInteraction>],
     ) {
+        self.closest_map(shapes, rays, out, |f, ray| self.interaction(shapes, f, ray));
+    }
+
+    /// The surface geometry of a traversal's result.
+    #[inline]
+    fn interaction(&self, shapes: &[Shape], f: Found, ray: &Ray) -> SurfaceInteraction {
+        let h = RawHit {
+            hit: self.hit(f),
+            block: f.block,
+            lane: f.lane,
+        };
+        self.raw_interaction(shapes, &h, ray)
+    }
+
+    /// Traces `rays` in chunks of 64 (one instruction-set dispatch each) and sets `out[i]` to
+    /// `f` of `rays[i]`'s closest hit and the ray, or `None`.
+    #[inline]
+    fn closest_map<T>(
+        &self,
+        shapes: &[Shape],
+        rays: &[Ray],
+        out: &mut [Option<T>],
+        f: impl Fn(Found, &Ray) -> T,
+    ) {
         assert_eq!(rays.len(), out.len());
         let mut raw = [None; 64];
         for (rs, os) in rays.chunks(64).zip(out.chunks_mut(64)) {
             let raw = &mut raw[..rs.len()];
             isa::closest_n(self.isa, self.view(), shapes, rs, raw);
             for ((o, r), ray) in os.iter_mut().zip(raw.iter()).zip(rs) {
-                *o = r.map(|f| self.interaction(shapes, f, ray));
+                *o = r.map(|r| f(r, ray));
             }
-        }
-    }
-
-    /// The surface geometry of a traversal's result.
-    #[inline]
-    fn interaction(&self, shapes: &[Shape], f: Found, ray: &Ray) -> SurfaceInteraction {
-        let hit = self.hit(f);
-        match &shapes[hit.shape as usize] {
-            Shape::Mesh(m) => {
-                let corners = self.blocks[f.block as usize].corners(f.lane as usize);
-                m.interaction_at(&hit, corners)
-            }
-            s => s.interaction(&hit, ray),
         }
     }
 
@@ -252,15 +255,7 @@ impl Bvh {
     /// dispatch for the whole batch; an integrator that carries several paths can hand over
     /// its rays this way.
     pub fn intersect_n(&self, shapes: &[Shape], rays: &[Ray], hits: &mut [Option<Hit>]) {
-        assert_eq!(rays.len(), hits.len());
-        let mut raw = [None; 64];
-        for (rs, hs) in rays.chunks(64).zip(hits.chunks_mut(64)) {
-            let raw = &mut raw[..rs.len()];
-            isa::closest_n(self.isa, self.view(), shapes, rs, raw);
-            for (h, r) in hs.iter_mut().zip(raw.iter()) {
-                *h = r.map(|r| self.hit(r));
-            }
-        }
+        self.closest_map(shapes, rays, hits, |f, _| self.hit(f));
     }
 
     /// Occlusion of a batch of rays: `blocked[i]` for `rays[i]`; see [`Bvh::intersect_n`].
