@@ -156,7 +156,7 @@ fn mutate(src: &[u8], rng: &mut Pcg32) -> Vec<u8> {
                 if let Some(&i) = hits.get(rng.next_u32() as usize % hits.len().max(1)) {
                     let start = i + 2;
                     let end = (start..s.len()).find(|&k| s[k] == b'"').unwrap_or(s.len());
-                    if rng.next_u32() % 3 == 0 {
+                    if rng.next_u32().is_multiple_of(3) {
                         let k0 = (0..i).rev().find(|&k| s[k] == b' ').map_or(i, |k| k + 1);
                         s.splice(k0..i, pick(rng, ATTRS).bytes());
                     } else {

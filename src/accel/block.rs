@@ -10,11 +10,10 @@
 //! [`crate::shape::mesh::intersect_watertight_sheared`] does it: the same operations in the same
 //! order, so a triangle gives bit-for-bit the same t and barycentrics in either. That includes
 //! the f64 redo of edge functions that round to zero, and the rejection of hits closer than the
-//! rounding error of t (see the scalar test). The SIMD pass filters against the
-//! closest hit so far (widened by a few ulps); [`Block::closest`] then walks the passing lanes
-//! and decides exactly: a triangle is a candidate when the scalar test hits it within the ray's
-//! own range, and the closest candidate wins, the lowest id among equally close ones
-//! ([`Best`]), whatever order the traversal meets them in.
+//! rounding error of t (see the scalar test). The SIMD pass decides, against the ray's own
+//! range, which triangles are candidates, and keeps those not beyond the closest hit so far;
+//! [`Block::closest`] then takes the first of them in (parameter, id) order ([`Best`]), so the
+//! closest hit is the same whatever order the traversal meets the blocks in.
 use super::simd::{max_bits, sign_bits, F4};
 use crate::math::{Ray, Vec2, Vec3};
 use crate::shape::mesh::{edge_f64, gamma, ShearedRay};
@@ -99,7 +98,7 @@ impl Block {
     /// The SIMD part of the watertight test against `t_max`; `None` when no triangle lane is
     /// hit.
     #[inline(always)]
-    fn test(&self, r: &RayLanes, t_max: f32) -> Option<Lanes> {
+    fn test(&self, r: &RayLanes, t_max: f32, best: f32) -> Option<Lanes> {
         let zero = F4::splat(0.0);
         let (a0, a1, a2) = self.relative(0, r);
         let (b0, b1, b2) = self.relative(1, r);
@@ -148,24 +147,15 @@ impl Block {
         let delta_t =
             F4::splat(3.0) * (g3 * max_e * max_zt + delta_e * max_zt + delta_z * max_e) * inv.abs();
         let beyond_error = t.gt(delta_t);
-        let hit = (in_range & t_ok & beyond_error).bits() & inside;
-        Some(Lanes {
-            hit,
-            t,
-            det,
-            t_scaled,
-            v,
-            w,
-            inv,
-        })
+        let first = t.le(F4::splat(best));
+        let hit = (in_range & t_ok & beyond_error & first).bits() & inside;
+        Some(Lanes { hit, t, v, w, inv })
     }
 
     /// Closest-hit test of the four slots: a slot is a candidate when its primitive is hit
     /// within the ray's own range (0, `ray.t_max`), and a candidate replaces `best` when it is
     /// closer, or as close with a lower id (see [`Best`]). Returns the lane and hit coordinates
-    /// of the last replacement, if any. The lanes are first filtered in SIMD against `best`
-    /// widened by a few ulps (so rounding cannot drop a candidate as close as `best`); the
-    /// exact decisions are then taken lane by lane.
+    /// of the last replacement, if any.
     #[inline(always)]
     pub fn closest(
         &self,
@@ -174,7 +164,7 @@ impl Block {
         best: &mut Best,
         shapes: &[Shape],
     ) -> Option<(usize, Vec2)> {
-        let lanes = self.test(r, widen(best.t));
+        let lanes = self.test(r, ray.t_max, best.t);
         let analytic = self.analytic();
         let hit = lanes.as_ref().map_or(0, |l| l.hit);
         let mut todo = hit | analytic;
@@ -182,6 +172,15 @@ impl Block {
             return None;
         }
         let mut found = None;
+        // The hit lanes' values, stored once.
+        let arrays = lanes.map(|l| {
+            (
+                l.t.to_array(),
+                l.v.to_array(),
+                l.w.to_array(),
+                l.inv.to_array(),
+            )
+        });
         while todo != 0 {
             let l = todo.trailing_zeros() as usize;
             todo &= todo - 1;
@@ -195,19 +194,11 @@ impl Block {
                 }
                 continue;
             }
-            // The comparisons with the ray's range, exactly as the scalar test makes them.
-            let Some(lanes) = &lanes else { continue };
-            let (det, ts, t) = (
-                lanes.det.to_array()[l],
-                lanes.t_scaled.to_array()[l],
-                lanes.t.to_array()[l],
-            );
-            let tmd = ray.t_max * det;
-            let in_range = if det < 0.0 { ts > tmd } else { ts < tmd };
-            if in_range && t < ray.t_max && best.takes(t, id) {
-                let inv = lanes.inv.to_array()[l];
-                let (v, w) = (lanes.v.to_array()[l], lanes.w.to_array()[l]);
-                found = Some((l, Vec2::new(v * inv, w * inv)));
+            let Some((t, v, w, inv)) = &arrays else {
+                continue;
+            };
+            if best.takes(t[l], id) {
+                found = Some((l, Vec2::new(v[l] * inv[l], w[l] * inv[l])));
             }
         }
         found
@@ -216,7 +207,10 @@ impl Block {
     /// Whether any slot is hit in (0, ray.t_max).
     #[inline(always)]
     pub fn any(&self, r: &RayLanes, ray: &Ray, shapes: &[Shape]) -> bool {
-        if self.test(r, ray.t_max).is_some_and(|l| l.hit != 0) {
+        if self
+            .test(r, ray.t_max, f32::INFINITY)
+            .is_some_and(|l| l.hit != 0)
+        {
             return true;
         }
         let mut analytic = self.analytic();
@@ -268,7 +262,8 @@ impl Best {
     }
 }
 
-/// `t` a few ulps larger: a filter bound that rounding cannot undercut.
+/// `t` a few ulps larger: a pruning bound that rounding cannot undercut (a box's entry
+/// distance may round just past a hit inside it).
 #[inline(always)]
 pub fn widen(t: f32) -> f32 {
     t * (1.0 + 4.0 * f32::EPSILON)
@@ -295,8 +290,6 @@ fn redo_edges(on_edge: u32, s: [F4; 6], uvw: [F4; 3]) -> (F4, F4, F4) {
 struct Lanes {
     hit: u32,
     t: F4,
-    det: F4,
-    t_scaled: F4,
     v: F4,
     w: F4,
     inv: F4,

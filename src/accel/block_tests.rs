@@ -63,12 +63,12 @@ fn ray_at(rng: &mut Pcg32, tris: &[[Vec3; 3]; 4]) -> Ray {
     };
     let scale = (tri[1] - tri[0]).length().max(1.0);
     let mut d = warp::square_to_uniform_sphere(rng.next_vec2());
-    if rng.next_u32() % 8 == 0 {
+    if rng.next_u32().is_multiple_of(8) {
         d = Vec3::ZERO;
         d[(rng.next_u32() % 3) as usize] = if rng.next_f32() < 0.5 { -1.0 } else { 1.0 };
     }
     let mut ray = Ray::new(target - d * (3.0 * scale * rng.next_f32()), d);
-    if rng.next_u32() % 3 == 0 {
+    if rng.next_u32().is_multiple_of(3) {
         ray.t_max = 4.0 * scale * rng.next_f32();
     }
     ray

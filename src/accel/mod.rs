@@ -18,7 +18,10 @@
 //! **Traversal** ([`traverse`]). One ray against eight boxes at once, nearest child first,
 //! stack entries beyond the closest hit skipped; leaves test four triangles at once with the
 //! watertight test, bit-identical to the scalar one ([`crate::shape::mesh`]); shadow rays stop
-//! at the first hit. The code uses the portable lanes of [`simd`] and is compiled per
+//! at the first hit. The closest hit is defined independently of the visiting order: among the
+//! primitives hit within the ray's range, the nearest, and among equally near ones the lowest
+//! lane id ([`block::Best`]); every pruning test is conservative, so any traversal order finds
+//! the same primitive, parameter and coordinates. The code uses the portable lanes of [`simd`] and is compiled per
 //! instruction set ([`isa`]: AVX-512, AVX2, baseline), chosen at run time.
 //!
 //! **Queries**: [`Bvh::intersect`](Accel::intersect) and [`Bvh::occluded`](Accel::occluded)

@@ -7,6 +7,7 @@
 //! ~1e-7 of the total may never be drawn although its pdf is positive.
 
 use crate::math::{Vec2, ONE_MINUS_EPSILON};
+use crate::simd::{Float, Int};
 
 /// A piecewise-constant density on [0, 1) with `n` equal cells.
 ///
@@ -68,8 +69,31 @@ impl Distribution1D {
     /// The cell whose CDF interval holds `u`: cdf[i] ≤ u < cdf[i+1] (so never an empty cell).
     #[inline]
     fn find(&self, u: f32) -> usize {
-        let i = self.cdf.partition_point(|&c| c <= u);
-        i.saturating_sub(1).min(self.func.len() - 1)
+        self.find_lanes(u) as usize
+    }
+
+    /// [`Distribution1D::find`] on lanes (for u ≥ 0): a binary search of fixed length for the
+    /// last CDF entry at or below u, capped at the last cell.
+    #[inline(always)]
+    fn find_lanes<F: Float>(&self, u: F) -> F::I {
+        let mut lo = F::I::splat(0);
+        let mut len = self.cdf.len();
+        while len > 1 {
+            let half = len / 2;
+            let probe = lo + F::I::splat(half as i32);
+            lo = F::I::select(F::gather(&self.cdf, probe).le(u), probe, lo);
+            len -= half;
+        }
+        let last = F::I::splat(self.func.len() as i32 - 1);
+        F::I::select(lo.gt(last), last, lo)
+    }
+
+    /// [`Distribution1D::sample_discrete`]'s cell and its probability, on lanes.
+    #[inline(always)]
+    pub(crate) fn sample_discrete_lanes<F: Float>(&self, u: F) -> (F::I, F) {
+        let i = self.find_lanes(u.clamp(0.0, ONE_MINUS_EPSILON));
+        let pmf = F::gather(&self.func, i) / F::splat(self.integral * self.count() as f32);
+        (i, pmf)
     }
 
     /// Samples x ∈ [0, 1); returns (x, density at x, cell index).
@@ -201,6 +225,12 @@ impl LightSampler {
         let d = self.dist.as_ref()?;
         let (i, p, _) = d.sample_discrete(u);
         Some((i, p))
+    }
+
+    /// [`LightSampler::sample`] on lanes: (light, probability), `None` without lights.
+    #[inline(always)]
+    pub(crate) fn sample_lanes<F: Float>(&self, u: F) -> Option<(F::I, F)> {
+        Some(self.dist.as_ref()?.sample_discrete_lanes(u))
     }
 
     /// Probability that [`Self::sample`] picks light `i`.

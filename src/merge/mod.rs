@@ -129,7 +129,7 @@ fn pixel_counts(inp: &MergeInput) -> Result<Vec<u64>, String> {
         .parse()
         .map_err(|_| format!("{}: {KEY_SAMPLES} is '{total}', not a count", inp.name))?;
     let n = (w * h) as u64;
-    if total % n != 0 {
+    if !total.is_multiple_of(n) {
         return Err(format!(
             "{}: {total} samples do not spread evenly over {w} × {h} pixels and there is no {KEY_TILE_SPP}",
             inp.name

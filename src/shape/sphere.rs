@@ -125,6 +125,21 @@ impl Sphere {
     /// Nearest intersection with parameter in (0, ray.t_max); the returned uv is unused (zero).
     #[inline]
     pub fn intersect(&self, ray: &Ray) -> Option<(f32, Vec2)> {
+        // Most rays that reach a sphere's bounds pass beside it: a conservative test in f32
+        // first. The line's distance to the centre, |l|, is computed with an error of a few
+        // ulps of |f|, far inside the margin, so no ray the exact test below hits is dropped.
+        let f32_f = ray.o - self.center;
+        let b = f32_f.dot(ray.d) / ray.d.length_squared();
+        let l = f32_f - ray.d * b;
+        let r2 = self.radius * self.radius;
+        if l.length_squared() > r2 * 1.001 + 1e-5 * f32_f.length_squared() {
+            return None;
+        }
+        self.intersect_exact(ray)
+    }
+
+    /// [`Sphere::intersect`] without its pre-test: the root of the quadratic in f64.
+    fn intersect_exact(&self, ray: &Ray) -> Option<(f32, Vec2)> {
         let f = ray.o.as_dvec3() - self.center.as_dvec3();
         let d = ray.d.as_dvec3();
         let r = self.radius as f64;
@@ -151,11 +166,31 @@ impl Sphere {
         }
     }
 
+    /// The point and outward unit normal at parameter `t` of `ray` (a hit).
+    #[inline]
+    fn point_normal(&self, t: f32, ray: &Ray) -> (Vec3, Vec3) {
+        let p_raw = (ray.o.as_dvec3() + ray.d.as_dvec3() * t as f64) - self.center.as_dvec3();
+        let n = unit_or_z(p_raw);
+        (self.center + n * self.radius, n)
+    }
+
+    /// What shading at a hit needs of [`Sphere::interaction`] without the texture
+    /// coordinates: (point, geometric normal, ∂p/∂u), bit for bit the same.
+    pub(crate) fn shading_geometry(&self, hit: &Hit, ray: &Ray) -> (Vec3, Vec3, Vec3) {
+        let (p, n) = self.point_normal(hit.t, ray);
+        let q = self.rotation.transpose() * n;
+        let sin_t = safe_sqrt(1.0 - q.z * q.z);
+        let dpdu = if sin_t > 1e-6 {
+            self.rotation * (Vec3::new(-q.y, q.x, 0.0) * (2.0 * PI * self.radius))
+        } else {
+            Frame::from_z(n).s * (2.0 * PI * self.radius)
+        };
+        (p, if self.flip_normals { -n } else { n }, dpdu)
+    }
+
     /// Surface geometry at a hit found by [`Sphere::intersect`].
     pub fn interaction(&self, hit: &Hit, ray: &Ray) -> SurfaceInteraction {
-        let p_raw = (ray.o.as_dvec3() + ray.d.as_dvec3() * hit.t as f64) - self.center.as_dvec3();
-        let n = unit_or_z(p_raw);
-        let p = self.center + n * self.radius;
+        let (p, n) = self.point_normal(hit.t, ray);
         let (uv, dpdu, dpdv) = self.parametrise(n);
         let ng = if self.flip_normals { -n } else { n };
         SurfaceInteraction {

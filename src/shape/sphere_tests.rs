@@ -202,3 +202,46 @@ fn spawned_rays_do_not_rehit_a_tiny_sphere() {
         assert!(t > 0.5 * chord, "t {t} chord {chord}");
     }
 }
+
+#[test]
+fn the_f32_pretest_never_drops_a_hit() {
+    // Rays aimed at points just inside and outside the silhouette, at many scales and
+    // distances, with and without the pre-test: the same answers, bit for bit.
+    let mut rng = crate::math::Pcg32::new(5, 9);
+    let mut near_misses = 0;
+    let mut grazing_hits = 0;
+    for case in 0..200_000 {
+        let scale = [1e-3f32, 1.0, 1e3, 1e5][case % 4];
+        let center = Vec3::new(
+            rng.next_f32() - 0.5,
+            rng.next_f32() - 0.5,
+            rng.next_f32() - 0.5,
+        ) * (10.0 * scale);
+        let radius = scale * (0.01 + rng.next_f32());
+        let s = Sphere::simple(center, radius);
+        let dir = crate::math::warp::square_to_uniform_sphere(rng.next_vec2());
+        let side = crate::math::Frame::from_z(dir);
+        let phi = 2.0 * std::f32::consts::PI * rng.next_f32();
+        // Distance of the line from the centre: within 1e-3 of the radius either way.
+        let off = radius * (1.0 + (rng.next_f32() - 0.5) * 2e-3);
+        let target = center + (side.s * phi.cos() + side.t * phi.sin()) * off;
+        let dist = scale * (1.0 + 100.0 * rng.next_f32());
+        let ray = Ray::new(target - dir * dist, dir);
+        let (a, b) = (s.intersect(&ray), s.intersect_exact(&ray));
+        assert_eq!(
+            a.map(|h| h.0.to_bits()),
+            b.map(|h| h.0.to_bits()),
+            "case {case}: {ray:?}"
+        );
+        if b.is_some() && off > radius * 0.9999 {
+            grazing_hits += 1;
+        }
+        if b.is_none() {
+            near_misses += 1;
+        }
+    }
+    assert!(
+        grazing_hits > 1000 && near_misses > 1000,
+        "{grazing_hits} {near_misses}"
+    );
+}

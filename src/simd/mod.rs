@@ -1,6 +1,6 @@
-//! Lanes: `f32` arithmetic written once and run on one value ([`f32`]) or on eight at once
-//! ([`F8`], AVX2), so that the wavefront integrator's kernels and the scalar code they mirror
-//! share their arithmetic.
+//! Lanes: `f32` arithmetic written once and run on one value ([`f32`]), on eight at once
+//! ([`F8`], AVX2) or on sixteen ([`F16`], AVX-512), so that the wavefront integrator's kernels
+//! and the scalar code they mirror share their arithmetic.
 //!
 //! [`Float`] is the lane type: IEEE single precision with the operations the renderer needs,
 //! comparisons into a [`Mask`], blends, and bit-level access through the matching [`Int`]
@@ -11,7 +11,7 @@
 //! functions the kernels need are ours ([`fastmath`]) for the same reason: both the scalar code
 //! and the lanes call them.
 //!
-//! The AVX2 type is only sound to use inside functions compiled with the `avx2` and `fma`
+//! The AVX2 and AVX-512 types are only sound to use inside functions compiled with their
 //! target features (see [`crate::integrator::wave`], which dispatches at run time); its methods
 //! are `#[inline(always)]` so that they compile into the caller's instruction set.
 
@@ -19,9 +19,16 @@ pub mod fastmath;
 mod scalar;
 mod vec;
 #[cfg(target_arch = "x86_64")]
+mod x512;
+#[cfg(target_arch = "x86_64")]
 mod x86;
 
 pub use vec::{V2, V3};
+
+#[cfg(test)]
+mod tests;
+#[cfg(target_arch = "x86_64")]
+pub use x512::{F16, I16, M16};
 #[cfg(target_arch = "x86_64")]
 pub use x86::{F8, I8, M8};
 

@@ -62,6 +62,11 @@ pub struct RenderArgs {
     /// Where to write the render state (checkpoints, and on interruption).
     #[arg(long, value_name = "PATH")]
     state: Option<PathBuf>,
+    /// Instruction set of the traversal and the wavefront lanes: `auto` (default: the widest
+    /// the CPU has), `avx512` (16 lanes), `avx2` (8 lanes) or `baseline` (scalar). For
+    /// benchmarks and checks; the image does not depend on it.
+    #[arg(long, default_value = "auto", value_parser = ["auto", "avx512", "avx2", "baseline"])]
+    isa: String,
     /// Tile order: `row` (default), `reversed` or `shuffled`. The image does not depend on it.
     #[arg(long, default_value = "row", value_parser = ["row", "reversed", "shuffled"])]
     tile_order: String,
@@ -320,7 +325,18 @@ pub fn run(args: RenderArgs) -> Result<()> {
     for w in &warnings {
         eprintln!("{w}");
     }
-    let scene = loaded?;
+    let mut scene = loaded?;
+    let isa = match args.isa.as_str() {
+        "avx512" => Some(ophis::accel::Isa::Avx512),
+        "avx2" => Some(ophis::accel::Isa::Avx2),
+        "baseline" => Some(ophis::accel::Isa::Baseline),
+        _ => None,
+    };
+    if let Some(isa) = isa {
+        if !scene.bvh.set_isa(isa) {
+            anyhow::bail!("--isa {}: this CPU does not support it", isa.name());
+        }
+    }
     let scene_id = identity(&plan.scene, &plan.info.defines)?;
     plan.info.spp = scene.sampler.spp;
     plan.info.seed = scene.sampler.seed;

@@ -4,6 +4,7 @@
 //! [`crate::bsdf::Bsdf`] wrapper's checks) rewritten over lanes, operation for operation; a
 //! chunk whose lanes hold several kinds evaluates each kind present and blends.
 
+use super::lookup::Groups;
 use super::program::{
     MaterialTable, Program, SpectrumTable, MAT_CONDUCTOR, MAT_DIELECTRIC, MAT_DIFFUSE,
     MAT_ROUGH_CONDUCTOR,
@@ -49,17 +50,18 @@ pub(super) struct Sampled<F: Float> {
 impl<F: Float> LaneBsdf<F> {
     /// The materials `mat` of the lanes of `m` at the given wavelengths.
     #[inline(always)]
-    pub fn new(prog: &Program, m: F::M, mat: F::I, lambda: &Spec<F>) -> Self {
+    pub fn new(prog: &Program, m: F::M, mat: F::I, lambda: &Spec<F>, d65: &Spec<F>) -> Self {
         let t: &MaterialTable = &prog.mats;
-        let kind = F::I::gather(&t.kind, mat);
+        let mats = Groups::<F>::new(mat, m);
+        let kind = mats.i(&t.kind);
         let is = |k: u32| m & kind.eq(F::I::splat(k as i32));
         let (diffuse, dielectric) = (is(MAT_DIFFUSE), is(MAT_DIELECTRIC));
         let (smooth_c, rough) = (is(MAT_CONDUCTOR), is(MAT_ROUGH_CONDUCTOR));
         let conductor = smooth_c | rough;
         let spectra: &SpectrumTable = &prog.spectra;
-        let entry = |k: usize| F::I::gather(&t.spec[k], mat);
-        let num = |k: usize| F::gather(&t.num[k], mat);
-        let r = eval_spectrum(spectra, entry(0), lambda);
+        let entry = |k: usize| mats.i(&t.spec[k]);
+        let num = |k: usize| mats.f(&t.num[k]);
+        let r = eval_spectrum(spectra, entry(0), m, lambda, d65);
         // `diffuse` clamps its reflectance to [0, 1].
         let mut r = r;
         if diffuse.any() {
@@ -85,7 +87,7 @@ impl<F: Float> LaneBsdf<F> {
             },
         };
         if dielectric.any() {
-            out.t_s = eval_spectrum(spectra, entry(1), lambda);
+            out.t_s = eval_spectrum(spectra, entry(1), dielectric, lambda, d65);
             out.eta = num(0);
         }
         if conductor.any() {
@@ -93,8 +95,8 @@ impl<F: Float> LaneBsdf<F> {
             out.mirror = conductor & num(1).eq(F::splat(1.0));
             let metal = conductor.and_not(out.mirror);
             if metal.any() {
-                let n = eval_spectrum(spectra, entry(1), lambda);
-                let k = eval_spectrum(spectra, entry(2), lambda);
+                let n = eval_spectrum(spectra, entry(1), metal, lambda, d65);
+                let k = eval_spectrum(spectra, entry(2), metal, lambda, d65);
                 for j in 0..4 {
                     out.n[j] = n[j] / ext;
                     out.k[j] = k[j] / ext;

@@ -10,6 +10,7 @@ use crate::math::Vec2;
 use crate::sampler::{SamplerKind, SamplerState};
 use crate::scene::Scene;
 use crate::simd::{Float, Int, Mask};
+use crate::spectrum::cie::d65_lanes;
 use crate::spectrum::SampledWavelengths;
 
 /// The jobs of a tile's pass: pixels of the tile (row-major) times sample indices.
@@ -58,8 +59,9 @@ pub(super) fn start<F: Float>(
     jobs.next += k as u32;
     let (lambda, pdf) = SampledWavelengths::sample_visible_lanes(F::load(&u[0]));
     for j in 0..4 {
-        lambda[j].store_at(&mut pool.lambda[j], base);
-        pdf[j].store_at(&mut pool.wl_pdf[j], base);
+        lambda[j].store_at(&mut pool.lambda[j][..], base);
+        pdf[j].store_at(&mut pool.wl_pdf[j][..], base);
+        d65_lanes(lambda[j]).store_at(&mut pool.d65[j][..], base);
     }
     let ox = scene.filter.sample_1d_lanes(F::load(&u[1]));
     let oy = scene.filter.sample_1d_lanes(F::load(&u[2]));
@@ -94,22 +96,22 @@ pub(super) fn start<F: Float>(
             1 => (o.y, d.y),
             _ => (o.z, d.z),
         };
-        oa.store_at(&mut pool.o[a], base);
-        da.store_at(&mut pool.d[a], base);
-        oa.store_at(&mut pool.prev_p[a], base);
-        zero.store_at(&mut pool.prev_n[a], base);
+        oa.store_at(&mut pool.o[a][..], base);
+        da.store_at(&mut pool.d[a][..], base);
+        oa.store_at(&mut pool.prev_p[a][..], base);
+        zero.store_at(&mut pool.prev_n[a][..], base);
     }
-    t_max.store_at(&mut pool.t_max, base);
+    t_max.store_at(&mut pool.t_max[..], base);
     for j in 0..4 {
-        zero.store_at(&mut pool.l[j], base);
-        one.store_at(&mut pool.beta[j], base);
+        zero.store_at(&mut pool.l[j][..], base);
+        one.store_at(&mut pool.beta[j][..], base);
     }
-    one.store_at(&mut pool.eta_scale, base);
-    zero.store_at(&mut pool.prev_pdf, base);
-    zero.store_at(&mut pool.path_length, base);
-    F::I::splat(1).store_at(&mut pool.specular, base);
-    F::I::splat(0).store_at(&mut pool.depth, base);
-    F::I::splat(0).store_at(&mut pool.null_crossings, base);
+    one.store_at(&mut pool.eta_scale[..], base);
+    zero.store_at(&mut pool.prev_pdf[..], base);
+    zero.store_at(&mut pool.path_length[..], base);
+    F::I::splat(1).store_at(&mut pool.specular[..], base);
+    F::I::splat(0).store_at(&mut pool.depth[..], base);
+    F::I::splat(0).store_at(&mut pool.null_crossings[..], base);
     pool.n += k;
     k
 }
@@ -121,9 +123,9 @@ pub(super) fn retire<F: Float>(pool: &Pool, dead: &[u32], results: &mut [[f32; 3
     let mut idx = [0u32; 16];
     idx[..dead.len()].copy_from_slice(dead);
     let idx = F::I::load(&idx);
-    let l: [F; 4] = spec!(k => F::gather(&pool.l[k], idx));
-    let lambda: [F; 4] = spec!(k => F::gather(&pool.lambda[k], idx));
-    let pdf: [F; 4] = spec!(k => F::gather(&pool.wl_pdf[k], idx));
+    let l: [F; 4] = spec!(k => F::gather(&pool.l[k][..], idx));
+    let lambda: [F; 4] = spec!(k => F::gather(&pool.lambda[k][..], idx));
+    let pdf: [F; 4] = spec!(k => F::gather(&pool.wl_pdf[k][..], idx));
     // NaN and infinities never reach the film.
     let finite = l[0].is_finite() & l[1].is_finite() & l[2].is_finite() & l[3].is_finite();
     let zero = F::splat(0.0);

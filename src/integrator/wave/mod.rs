@@ -23,8 +23,8 @@
 //! pixel's samples are summed in sample order at the end: a tile is bit-identical to the
 //! scalar loop's, which `tests/wavefront.rs` checks on every scene.
 //!
-//! Lanes are eight wide on CPUs with AVX2 (the code is compiled for AVX2 and for AVX-512,
-//! chosen at run time like the accelerator's traversal) and one wide elsewhere.
+//! Lanes are sixteen wide on CPUs with AVX-512, eight with AVX2 (chosen at run time like the
+//! accelerator's traversal) and one elsewhere.
 
 /// `[e(0), e(1), e(2), e(3)]` for an expression `e` of `k`. Not a closure: a closure is
 /// compiled as a function of its own, without the caller's instruction set, and unless it
@@ -54,6 +54,7 @@ macro_rules! spec {
 
 mod bsdf;
 mod ends;
+mod lookup;
 mod pool;
 pub mod program;
 mod surface;
@@ -63,12 +64,12 @@ pub use pool::POOL;
 pub use program::Program as WaveProgram;
 
 use super::path::{PathConfig, PathStrategy};
-use crate::accel::{Isa, RawHit};
+use crate::accel::Isa;
 use crate::math::Ray;
 use crate::scene::Scene;
 use crate::simd::Float;
 use crate::spectrum::SampledSpectrum;
-use pool::{Pool, MISS};
+use pool::Pool;
 use program::Program;
 use vertex::Ctx;
 
@@ -146,7 +147,7 @@ pub fn render_tile(
             n: (u32, u32),
             st: PathStrategy,
         ) -> Vec<[f64; 4]> {
-            run::<F8>(s, p, c, f, n, st)
+            run::<crate::simd::F16>(s, p, c, f, n, st)
         }
         match scene.bvh.isa() {
             // SAFETY: the BVH only holds an instruction set the CPU supports (`Isa::best`,
@@ -189,7 +190,6 @@ fn run<F: Float>(
     let mut results = vec![[0.0f32; 3]; jobs.count as usize];
     let mut pool = Pool::new();
     let mut rays: Vec<Ray> = Vec::with_capacity(POOL);
-    let mut hits: Vec<Option<RawHit>> = Vec::with_capacity(POOL);
     let mut shadows = Shadows::new();
     let mut dead: Vec<u32> = Vec::with_capacity(POOL);
     let mut scratch = vertex::Scratch::new();
@@ -203,26 +203,11 @@ fn run<F: Float>(
         let n = pool.n;
 
         // 2. Trace.
-        rays.clear();
-        rays.extend((0..n).map(|i| pool.ray(i)));
-        hits.clear();
-        hits.resize(n, None);
-        scene.bvh.intersect_raw_n(&scene.shapes, &rays, &mut hits);
-        for (i, h) in hits.iter().enumerate() {
-            pool.hit[i] = *h;
-            match h {
-                None => pool.h_shape[i] = MISS,
-                Some(h) => {
-                    pool.h_shape[i] = h.hit.shape;
-                    pool.h_prim[i] = h.hit.prim;
-                    pool.h_t[i] = h.hit.t;
-                    pool.h_u[i] = h.hit.uv.x;
-                    pool.h_v[i] = h.hit.uv.y;
-                    pool.h_block[i] = h.block;
-                    pool.h_lane[i] = h.lane;
-                }
-            }
-        }
+        pool.rays_into(&mut rays);
+        scene
+            .bvh
+            .intersect_raw_n(&scene.shapes, &rays, &mut pool.hit[..n]);
+        pool.spread_hits();
 
         // 3. Shade.
         shadows.clear();

@@ -18,56 +18,66 @@ pub(super) const CAP: usize = POOL + 16;
 /// Hit shape index of a ray that escaped.
 pub(super) const MISS: u32 = u32::MAX;
 
+/// One field of every path: an array of constant length, so that an index checked once
+/// against [`CAP`] needs no further bounds checks.
+pub(super) type Col<T> = Box<[T; CAP]>;
+
 /// Four arrays, one per wavelength.
-pub(super) type Spectra = [Vec<f32>; 4];
+pub(super) type Spectra = [Col<f32>; 4];
+
+fn col<T: Copy>(v: T) -> Col<T> {
+    Box::new([v; CAP])
+}
 
 fn spectra() -> Spectra {
-    std::array::from_fn(|_| vec![0.0; CAP])
+    std::array::from_fn(|_| col(0.0))
 }
 
 /// The live paths; see the module header.
 pub(super) struct Pool {
     /// Number of live paths.
     pub n: usize,
-    pub o: [Vec<f32>; 3],
-    pub d: [Vec<f32>; 3],
-    pub t_max: Vec<f32>,
+    pub o: [Col<f32>; 3],
+    pub d: [Col<f32>; 3],
+    pub t_max: Col<f32>,
     pub l: Spectra,
     pub beta: Spectra,
     pub lambda: Spectra,
     pub wl_pdf: Spectra,
-    pub eta_scale: Vec<f32>,
-    pub prev_pdf: Vec<f32>,
-    pub path_length: Vec<f32>,
-    pub specular: Vec<u32>,
-    pub depth: Vec<u32>,
-    pub null_crossings: Vec<u32>,
-    pub prev_p: [Vec<f32>; 3],
-    pub prev_n: [Vec<f32>; 3],
+    /// D65 at the path's wavelengths (for RGB emission), looked up once per path.
+    pub d65: Spectra,
+    pub eta_scale: Col<f32>,
+    pub prev_pdf: Col<f32>,
+    pub path_length: Col<f32>,
+    pub specular: Col<u32>,
+    pub depth: Col<u32>,
+    pub null_crossings: Col<u32>,
+    pub prev_p: [Col<f32>; 3],
+    pub prev_n: [Col<f32>; 3],
     /// Each path's sampler state ([`SamplerState::parts`]), field by field.
-    pub rng_state: Vec<u64>,
-    pub rng_inc: Vec<u64>,
-    pub pixel_seed: Vec<u32>,
-    pub sample_index: Vec<u32>,
-    pub dim: Vec<u32>,
+    pub rng_state: Col<u64>,
+    pub rng_inc: Col<u64>,
+    pub pixel_seed: Col<u32>,
+    pub sample_index: Col<u32>,
+    pub dim: Col<u32>,
     /// Index of the job (pixel sample) in the tile's pass.
-    pub job: Vec<u32>,
+    pub job: Col<u32>,
     /// Whether the path goes on after this round (1) or ends (0).
-    pub alive: Vec<u32>,
+    pub alive: Col<u32>,
     /// This round's closest hit, as the traversal returned it.
-    pub hit: Vec<Option<RawHit>>,
+    pub hit: Col<Option<RawHit>>,
     /// The hit's shape ([`MISS`] for an escaped ray), primitive, parameter and coordinates.
-    pub h_shape: Vec<u32>,
-    pub h_prim: Vec<u32>,
-    pub h_t: Vec<f32>,
-    pub h_u: Vec<f32>,
-    pub h_v: Vec<f32>,
-    pub h_block: Vec<u32>,
-    pub h_lane: Vec<u32>,
+    pub h_shape: Col<u32>,
+    pub h_prim: Col<u32>,
+    pub h_t: Col<f32>,
+    pub h_u: Col<f32>,
+    pub h_v: Col<f32>,
+    pub h_block: Col<u32>,
+    pub h_lane: Col<u32>,
 }
 
-fn v3() -> [Vec<f32>; 3] {
-    std::array::from_fn(|_| vec![0.0; CAP])
+fn v3() -> [Col<f32>; 3] {
+    std::array::from_fn(|_| col(0.0))
 }
 
 impl Pool {
@@ -76,34 +86,35 @@ impl Pool {
             n: 0,
             o: v3(),
             d: v3(),
-            t_max: vec![0.0; CAP],
+            t_max: col(0.0),
             l: spectra(),
             beta: spectra(),
             lambda: spectra(),
             wl_pdf: spectra(),
-            eta_scale: vec![0.0; CAP],
-            prev_pdf: vec![0.0; CAP],
-            path_length: vec![0.0; CAP],
-            specular: vec![0; CAP],
-            depth: vec![0; CAP],
-            null_crossings: vec![0; CAP],
+            d65: spectra(),
+            eta_scale: col(0.0),
+            prev_pdf: col(0.0),
+            path_length: col(0.0),
+            specular: col(0),
+            depth: col(0),
+            null_crossings: col(0),
             prev_p: v3(),
             prev_n: v3(),
-            rng_state: vec![0; CAP],
-            rng_inc: vec![0; CAP],
-            pixel_seed: vec![0; CAP],
-            sample_index: vec![0; CAP],
-            dim: vec![0; CAP],
-            job: vec![0; CAP],
-            alive: vec![0; CAP],
-            hit: vec![None; CAP],
-            h_shape: vec![MISS; CAP],
-            h_prim: vec![0; CAP],
-            h_t: vec![0.0; CAP],
-            h_u: vec![0.0; CAP],
-            h_v: vec![0.0; CAP],
-            h_block: vec![0; CAP],
-            h_lane: vec![0; CAP],
+            rng_state: col(0),
+            rng_inc: col(0),
+            pixel_seed: col(0),
+            sample_index: col(0),
+            dim: col(0),
+            job: col(0),
+            alive: col(0),
+            hit: col(None),
+            h_shape: col(MISS),
+            h_prim: col(0),
+            h_t: col(0.0),
+            h_u: col(0.0),
+            h_v: col(0.0),
+            h_block: col(0),
+            h_lane: col(0),
         }
     }
 
@@ -114,6 +125,43 @@ impl Pool {
             o: Vec3::new(self.o[0][i], self.o[1][i], self.o[2][i]),
             d: Vec3::new(self.d[0][i], self.d[1][i], self.d[2][i]),
             t_max: self.t_max[i],
+        }
+    }
+
+    /// The rays of the live paths, in order, into `out`.
+    pub fn rays_into(&self, out: &mut Vec<Ray>) {
+        let n = self.n;
+        let (ox, oy, oz) = (&self.o[0][..n], &self.o[1][..n], &self.o[2][..n]);
+        let (dx, dy, dz) = (&self.d[0][..n], &self.d[1][..n], &self.d[2][..n]);
+        let t_max = &self.t_max[..n];
+        out.clear();
+        out.extend((0..n).map(|i| Ray {
+            o: Vec3::new(ox[i], oy[i], oz[i]),
+            d: Vec3::new(dx[i], dy[i], dz[i]),
+            t_max: t_max[i],
+        }));
+    }
+
+    /// Copies the fields of the live paths' hits (in `hit`) to their own arrays.
+    pub fn spread_hits(&mut self) {
+        let n = self.n;
+        let hits = &self.hit[..n];
+        let (shape, prim) = (&mut self.h_shape[..n], &mut self.h_prim[..n]);
+        let (t, u, v) = (&mut self.h_t[..n], &mut self.h_u[..n], &mut self.h_v[..n]);
+        let (block, lane) = (&mut self.h_block[..n], &mut self.h_lane[..n]);
+        for i in 0..n {
+            match &hits[i] {
+                None => shape[i] = MISS,
+                Some(h) => {
+                    shape[i] = h.hit.shape;
+                    prim[i] = h.hit.prim;
+                    t[i] = h.hit.t;
+                    u[i] = h.hit.uv.x;
+                    v[i] = h.hit.uv.y;
+                    block[i] = h.block;
+                    lane[i] = h.lane;
+                }
+            }
         }
     }
 
@@ -153,7 +201,7 @@ impl Pool {
     /// Path `i` as the scalar estimator's state.
     pub fn load_path(&self, i: usize) -> PathState {
         let spec = |a: &Spectra| SampledSpectrum(std::array::from_fn(|k| a[k][i]));
-        let v = |a: &[Vec<f32>; 3]| Vec3::new(a[0][i], a[1][i], a[2][i]);
+        let v = |a: &[Col<f32>; 3]| Vec3::new(a[0][i], a[1][i], a[2][i]);
         PathState {
             ray: self.ray(i),
             l: spec(&self.l),
@@ -194,6 +242,8 @@ impl Pool {
 
     /// Copies every per-path field of `from` to `to` (compaction; hits are not kept).
     fn move_path(&mut self, from: usize, to: usize) {
+        // Checked once: every column has length CAP.
+        assert!(from < CAP && to < CAP);
         macro_rules! mv {
             ($($a:expr),*) => { $( $a[to] = $a[from]; )* };
         }
@@ -201,7 +251,13 @@ impl Pool {
             mv!(self.o[a], self.d[a], self.prev_p[a], self.prev_n[a]);
         }
         for k in 0..4 {
-            mv!(self.l[k], self.beta[k], self.lambda[k], self.wl_pdf[k]);
+            mv!(
+                self.l[k],
+                self.beta[k],
+                self.lambda[k],
+                self.wl_pdf[k],
+                self.d65[k]
+            );
         }
         mv!(
             self.t_max,

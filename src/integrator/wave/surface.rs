@@ -3,6 +3,7 @@
 //! from the corners kept in the BVH's leaf blocks) and as each shape's own code computes them
 //! for the others (lane by lane).
 
+use super::lookup::Groups;
 use super::pool::Pool;
 use super::vertex::{lanes, load_v3, Ctx};
 use crate::accel::BLOCK_WORDS;
@@ -25,11 +26,11 @@ pub(super) fn surfaces<F: Float>(
     pool: &Pool,
     base: usize,
     m: F::M,
-    shape: F::I,
+    shapes: &Groups<F>,
     w: &mut [[f32; 16]; 16],
 ) -> Surface<F> {
     let scene = c.scene;
-    let mesh = m & F::I::gather(&c.prog.shape_mesh, shape).eq(F::I::splat(1));
+    let mesh = m & shapes.i(&c.prog.shape_mesh).eq(F::I::splat(1));
     // Lane by lane: what lives in each shape's own arrays (a triangle's corner UVs and
     // normals), or the whole interaction of other shapes.
     let mut flip = 0u32;
@@ -51,6 +52,16 @@ pub(super) fn surfaces<F: Float>(
                             w[6 + 3 * k + a][i] = q[a];
                         }
                     }
+                }
+            }
+            Shape::Sphere(sphere) => {
+                // No texture coordinates are needed: skip their arc tangents.
+                let (p, ng, dpdu) = sphere.shading_geometry(&h.hit, &pool.ray(base + i));
+                for a in 0..3 {
+                    w[a][i] = p[a];
+                    w[3 + a][i] = ng[a];
+                    w[6 + a][i] = ng[a];
+                    w[9 + a][i] = dpdu[a];
                 }
             }
             _ => {
@@ -78,16 +89,16 @@ pub(super) fn surfaces<F: Float>(
 
     // Triangles, from the corners in the leaf block and the barycentrics of the hit.
     let words = scene.bvh.block_words();
-    let slot = F::I::load_at(&pool.h_block, base).mul_lo(F::I::splat(BLOCK_WORDS as i32))
-        + F::I::load_at(&pool.h_lane, base);
+    let slot = F::I::load_at(&pool.h_block[..], base).mul_lo(F::I::splat(BLOCK_WORDS as i32))
+        + F::I::load_at(&pool.h_lane[..], base);
     let slot = F::I::select(mesh, slot, F::I::splat(0));
     let (p0, p1, p2) = (
         corner(words, slot, 0),
         corner(words, slot, 1),
         corner(words, slot, 2),
     );
-    let b1 = F::load_at(&pool.h_u, base);
-    let b2 = F::load_at(&pool.h_v, base);
+    let b1 = F::load_at(&pool.h_u[..], base);
+    let b2 = F::load_at(&pool.h_v[..], base);
     let b0 = F::splat(1.0) - b1 - b2;
     let p = p0 * b0 + p1 * b1 + p2 * b2;
     let flip = F::M::from_bits(flip);

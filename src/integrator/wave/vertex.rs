@@ -12,7 +12,8 @@
 //! a point on its triangle) are fetched lane by lane; the arithmetic runs in lanes.
 
 use super::bsdf::LaneBsdf;
-use super::pool::{Pool, Spectra, MISS};
+use super::lookup::Groups;
+use super::pool::{Col, Pool, Spectra, MISS};
 use super::program::{
     Program, SpectrumTable, SPEC_ALBEDO, SPEC_CONSTANT, SPEC_CURVE, SPEC_ILLUMINANT, SPEC_UNBOUNDED,
 };
@@ -27,7 +28,6 @@ use crate::sampler::{Sampler, SamplerKind};
 use crate::scene::Scene;
 use crate::shape::{area_to_solid_angle_lanes, Shape};
 use crate::simd::{Float, Int, Mask, V3};
-use crate::spectrum::cie::d65_lanes;
 use crate::spectrum::rgb2spec::sigmoid_poly_lanes;
 use crate::spectrum::SampledSpectrum;
 
@@ -45,7 +45,7 @@ pub(super) struct Scratch {
     /// The surface's rows (see `surface`).
     pub surface: [[f32; 16]; 16],
     /// The light sample's rows (see `sample_lights`).
-    pub light: [[f32; 16]; 24],
+    pub light: [[f32; 16]; 25],
     /// The chosen light of each lane.
     pub light_index: [u32; 16],
 }
@@ -54,7 +54,7 @@ impl Scratch {
     pub fn new() -> Box<Scratch> {
         Box::new(Scratch {
             surface: [[0.0; 16]; 16],
-            light: [[0.0; 16]; 24],
+            light: [[0.0; 16]; 25],
             light_index: [0; 16],
         })
     }
@@ -64,11 +64,11 @@ impl Scratch {
 pub(super) type Spec<F> = [F; 4];
 
 #[inline(always)]
-fn load3<F: Float>(a: &[Vec<f32>; 3], base: usize) -> V3<F> {
+fn load3<F: Float>(a: &[Col<f32>; 3], base: usize) -> V3<F> {
     V3::new(
-        F::load_at(&a[0], base),
-        F::load_at(&a[1], base),
-        F::load_at(&a[2], base),
+        F::load_at(&a[0][..], base),
+        F::load_at(&a[1][..], base),
+        F::load_at(&a[2][..], base),
     )
 }
 
@@ -91,21 +91,21 @@ fn store_masked_int<F: Float>(a: &mut [u32], base: usize, m: F::M, v: F::I) {
 }
 
 #[inline(always)]
-fn store3_masked<F: Float>(a: &mut [Vec<f32>; 3], base: usize, m: F::M, v: V3<F>) {
-    store_masked(&mut a[0], base, m, v.x);
-    store_masked(&mut a[1], base, m, v.y);
-    store_masked(&mut a[2], base, m, v.z);
+fn store3_masked<F: Float>(a: &mut [Col<f32>; 3], base: usize, m: F::M, v: V3<F>) {
+    store_masked(&mut a[0][..], base, m, v.x);
+    store_masked(&mut a[1][..], base, m, v.y);
+    store_masked(&mut a[2][..], base, m, v.z);
 }
 
 #[inline(always)]
 fn load_spec<F: Float>(a: &Spectra, base: usize) -> Spec<F> {
-    spec!(k => F::load_at(&a[k], base))
+    spec!(k => F::load_at(&a[k][..], base))
 }
 
 #[inline(always)]
 fn store_spec_masked<F: Float>(a: &mut Spectra, base: usize, m: F::M, v: Spec<F>) {
     for k in 0..4 {
-        store_masked(&mut a[k], base, m, v[k]);
+        store_masked(&mut a[k][..], base, m, v[k]);
     }
 }
 
@@ -141,8 +141,8 @@ pub(super) fn lanes(bits: u32) -> impl Iterator<Item = usize> {
 fn draw<F: Float>(pool: &mut Pool, base: usize, m: F::M, kind: SamplerKind) -> F {
     if kind == SamplerKind::Independent {
         let u = F::pcg_next_f32(&mut pool.rng_state[base..], &pool.rng_inc[base..], m);
-        let dim = F::I::load_at(&pool.dim, base);
-        store_masked_int::<F>(&mut pool.dim, base, m, dim + F::I::splat(1));
+        let dim = F::I::load_at(&pool.dim[..], base);
+        store_masked_int::<F>(&mut pool.dim[..], base, m, dim + F::I::splat(1));
         return u;
     }
     let mut u = [0.0f32; 16];
@@ -154,16 +154,20 @@ fn draw<F: Float>(pool: &mut Pool, base: usize, m: F::M, kind: SamplerKind) -> F
     F::load(&u)
 }
 
-/// Table spectra at the lanes' wavelengths ([`crate::spectrum::Spectrum::sample`]).
+/// Table spectra at the lanes' wavelengths ([`crate::spectrum::Spectrum::sample`]), for the
+/// lanes of `m` (the others are 0); `d65` is D65 at those wavelengths.
 #[inline(always)]
-pub(super) fn eval_spectrum<F: Float>(t: &SpectrumTable, idx: F::I, lambda: &Spec<F>) -> Spec<F> {
-    let mode = F::I::gather(&t.mode, idx);
-    let (c0, c1, c2) = (
-        F::gather(&t.c0, idx),
-        F::gather(&t.c1, idx),
-        F::gather(&t.c2, idx),
-    );
-    let scale = F::gather(&t.scale, idx);
+pub(super) fn eval_spectrum<F: Float>(
+    t: &SpectrumTable,
+    idx: F::I,
+    m: F::M,
+    lambda: &Spec<F>,
+    d65: &Spec<F>,
+) -> Spec<F> {
+    let g = Groups::<F>::new(idx, m);
+    let mode = g.i(&t.mode);
+    let (c0, c1, c2) = (g.f(&t.c0), g.f(&t.c1), g.f(&t.c2));
+    let scale = g.f(&t.scale);
     let constant = mode.eq(F::I::splat(SPEC_CONSTANT as i32));
     let albedo = mode.eq(F::I::splat(SPEC_ALBEDO as i32));
     let unbounded = mode.eq(F::I::splat(SPEC_UNBOUNDED as i32));
@@ -171,11 +175,11 @@ pub(super) fn eval_spectrum<F: Float>(t: &SpectrumTable, idx: F::I, lambda: &Spe
     let any_illuminant = illuminant.any();
     // A loop, not `spec`: this body is too large for a closure to be inlined.
     let mut out = [c0; 4];
-    for (o, &l) in out.iter_mut().zip(lambda) {
+    for ((o, &l), &d) in out.iter_mut().zip(lambda).zip(d65) {
         let s = sigmoid_poly_lanes(c0, c1, c2, l);
         let mut v = F::select(unbounded, s * scale, s);
         if any_illuminant {
-            v = F::select(illuminant, scale * s * d65_lanes(l), v);
+            v = F::select(illuminant, scale * s * d, v);
         }
         let v = F::select(albedo, s, v);
         *o = F::select(constant, c0, v);
@@ -183,7 +187,7 @@ pub(super) fn eval_spectrum<F: Float>(t: &SpectrumTable, idx: F::I, lambda: &Spe
     let curves = mode.eq(F::I::splat(SPEC_CURVE as i32));
     if curves.any() {
         // Tabulated curves, one distinct curve at a time.
-        let curve = F::I::gather(&t.curve, idx);
+        let curve = g.i(&t.curve);
         let mut todo = curves.bits();
         while todo != 0 {
             let c = curve.lane(todo.trailing_zeros() as usize);
@@ -222,16 +226,24 @@ pub(super) fn shade_chunk<F: Float>(
 ) {
     let n = pool.n - base;
     let active = F::M::from_bits(if n >= 32 { u32::MAX } else { (1u32 << n) - 1 });
-    let shape = F::I::load_at(&pool.h_shape, base);
+    let shape = F::I::load_at(&pool.h_shape[..], base);
     let miss = shape.eq(F::I::splat(MISS as i32));
     let shape = F::I::select(miss, F::I::splat(0), shape);
-    let in_lanes = F::I::gather(&c.prog.shape_lanes, shape).eq(F::I::splat(1));
+    let shapes = Groups::<F>::new(shape, active.and_not(miss));
+    let in_lanes = shapes.i(&c.prog.shape_lanes).eq(F::I::splat(1));
     let vector = active.and_not(miss) & in_lanes;
-    for i in lanes(active.and_not(vector).bits()) {
+    let mut scalar = active.and_not(vector);
+    if c.scene.infinite_lights.is_empty() {
+        // Escaped rays see nothing and end.
+        let escaped = active & miss;
+        store_masked_int::<F>(&mut pool.alive[..], base, escaped, F::I::splat(0));
+        scalar = scalar.and_not(escaped);
+    }
+    for i in lanes(scalar.bits()) {
         scalar_vertex(c, pool, base + i, shadows);
     }
     if vector.any() {
-        vector_vertex::<F>(c, pool, base, vector, shape, shadows, scratch);
+        vector_vertex::<F>(c, pool, base, vector, &shapes, shadows, scratch);
     }
 }
 
@@ -266,7 +278,7 @@ fn vector_vertex<F: Float>(
     pool: &mut Pool,
     base: usize,
     m: F::M,
-    shape: F::I,
+    shapes: &Groups<F>,
     shadows: &mut Shadows,
     scratch: &mut Scratch,
 ) {
@@ -276,31 +288,35 @@ fn vector_vertex<F: Float>(
     let d = load3::<F>(&pool.d, base);
     let wo = -d;
     let lambda = load_spec::<F>(&pool.lambda, base);
+    let d65 = load_spec::<F>(&pool.d65, base);
     let mut beta = load_spec::<F>(&pool.beta, base);
     let mut l = load_spec::<F>(&pool.l, base);
 
     let surface::Surface { p, ng, ns, dpdu } =
-        surface::surfaces::<F>(c, pool, base, m, shape, &mut scratch.surface);
-    let t = F::load_at(&pool.h_t, base);
-    let path_length = F::load_at(&pool.path_length, base) + t;
-    store_masked(&mut pool.path_length, base, m, path_length);
+        surface::surfaces::<F>(c, pool, base, m, shapes, &mut scratch.surface);
+    let t = F::load_at(&pool.h_t[..], base);
+    let path_length = F::load_at(&pool.path_length[..], base) + t;
+    store_masked(&mut pool.path_length[..], base, m, path_length);
 
     // Emission from an area light that the path hit.
-    let depth = F::I::load_at(&pool.depth, base);
-    let specular = F::I::load_at(&pool.specular, base).eq(F::I::splat(1));
-    let prev_pdf = F::load_at(&pool.prev_pdf, base);
-    let emit1 = F::I::gather(&prog.shape_emit, shape);
+    let depth = F::I::load_at(&pool.depth[..], base);
+    let specular = F::I::load_at(&pool.specular[..], base).eq(F::I::splat(1));
+    let prev_pdf = F::load_at(&pool.prev_pdf[..], base);
+    let emit1 = shapes.i(&prog.shape_emit);
     let mut emit = m.and_not(emit1.eq(F::I::splat(0)));
     if cfg.hide_emitters {
         emit = emit.and_not(depth.eq(F::I::splat(0)));
     }
     if emit.any() {
         let light = F::I::select(emit, emit1 - F::I::splat(1), F::I::splat(0));
+        let lights = Groups::<F>::new(light, emit);
         let front = ng.dot(wo).gt(zero);
         let le = eval_spectrum(
             &prog.spectra,
-            F::I::gather(&prog.light_spec, light),
+            lights.i(&prog.light_spec),
+            emit,
             &lambda,
+            &d65,
         );
         let le = spec!(k => F::select(front, le[k], zero));
         let shows = emit.and_not(is_black(&le));
@@ -311,13 +327,9 @@ fn vector_vertex<F: Float>(
                 one
             } else {
                 let prev_p = load3::<F>(&pool.prev_p, base);
-                let pdf_li = area_to_solid_angle_lanes(
-                    F::gather(&prog.light_inv_area, light),
-                    prev_p,
-                    p,
-                    ng,
-                );
-                power_heuristic_lanes(prev_pdf, F::gather(&prog.light_pmf, light) * pdf_li)
+                let pdf_li =
+                    area_to_solid_angle_lanes(lights.f(&prog.light_inv_area), prev_p, p, ng);
+                power_heuristic_lanes(prev_pdf, lights.f(&prog.light_pmf) * pdf_li)
             };
             let w = F::select(specular, one, w);
             for k in 0..4 {
@@ -327,13 +339,13 @@ fn vector_vertex<F: Float>(
     }
 
     let depth = depth + F::I::splat(1);
-    store_masked_int::<F>(&mut pool.depth, base, m, depth);
+    store_masked_int::<F>(&mut pool.depth[..], base, m, depth);
     let mut alive = m.and_not(depth.gt(F::I::splat(cfg.max_depth as i32 - 1)));
 
     // The BSDF at the hit.
-    let mat = F::I::gather(&prog.shape_mat, shape);
+    let mat = shapes.i(&prog.shape_mat);
     let frame = FrameL::from_normal_tangent(ns, dpdu);
-    let bsdf = LaneBsdf::new(prog, alive, mat, &lambda);
+    let bsdf = LaneBsdf::new(prog, alive, mat, &lambda, &d65);
     alive = alive.and_not(bsdf.none());
     let wo_l = frame.to_local(wo);
 
@@ -344,7 +356,9 @@ fn vector_vertex<F: Float>(
     let nee = alive & bsdf.non_specular();
     if cfg.use_nee && nee.any() {
         let wl_pdf = load_spec::<F>(&pool.wl_pdf, base);
-        let ls = sample_lights(c, nee, p, ng, u_light, u0, u1, &lambda, &wl_pdf, scratch);
+        let ls = sample_lights(
+            c, nee, p, ng, u_light, u0, u1, &lambda, &wl_pdf, &d65, scratch,
+        );
         let wi_l = frame.to_local(ls.wi);
         let (f, bsdf_pdf) = bsdf.f_pdf(wo_l, wi_l);
         let cos = ls.wi.dot(frame.n).abs();
@@ -360,14 +374,22 @@ fn vector_vertex<F: Float>(
             };
             let (so, sd, st) = spawn_to(p, ng, ls.p_light);
             let contrib: Spec<F> = spec!(k => beta[k] * f[k] * ls.l[k] * (w / light_pdf));
+            // Every lane table stored once, then read lane by lane.
+            let w = &mut scratch.light;
+            for (row, v) in w.iter_mut().zip([
+                so.x, so.y, so.z, sd.x, sd.y, sd.z, st, contrib[0], contrib[1], contrib[2],
+                contrib[3],
+            ]) {
+                v.store(row);
+            }
             for i in lanes(ok.bits()) {
-                let c = spec!(k => contrib[k].lane(i));
                 let ray = crate::math::Ray {
-                    o: so.lane(i),
-                    d: sd.lane(i),
-                    t_max: st.lane(i),
+                    o: crate::math::Vec3::new(w[0][i], w[1][i], w[2][i]),
+                    d: crate::math::Vec3::new(w[3][i], w[4][i], w[5][i]),
+                    t_max: w[6][i],
                 };
-                shadows.push((base + i) as u32, ray, SampledSpectrum(c));
+                let c = SampledSpectrum([w[7][i], w[8][i], w[9][i], w[10][i]]);
+                shadows.push((base + i) as u32, ray, c);
             }
         }
     }
@@ -385,16 +407,16 @@ fn vector_vertex<F: Float>(
     }
     alive = alive & is_finite(&beta);
     let specular_i = F::I::select(bs.specular, F::I::splat(1), F::I::splat(0));
-    let eta_scale = F::load_at(&pool.eta_scale, base);
+    let eta_scale = F::load_at(&pool.eta_scale[..], base);
     let eta_scale = F::select(bs.transmission, eta_scale * (bs.eta * bs.eta), eta_scale);
-    store_masked(&mut pool.eta_scale, base, alive, eta_scale);
-    store_masked(&mut pool.prev_pdf, base, alive, bs.pdf);
-    store_masked_int::<F>(&mut pool.specular, base, alive, specular_i);
+    store_masked(&mut pool.eta_scale[..], base, alive, eta_scale);
+    store_masked(&mut pool.prev_pdf[..], base, alive, bs.pdf);
+    store_masked_int::<F>(&mut pool.specular[..], base, alive, specular_i);
     store3_masked(&mut pool.prev_p, base, alive, p);
     store3_masked(&mut pool.prev_n, base, alive, ng);
     store3_masked(&mut pool.o, base, alive, spawn_origin(p, ng, wi));
     store3_masked(&mut pool.d, base, alive, wi);
-    store_masked(&mut pool.t_max, base, alive, F::splat(f32::INFINITY));
+    store_masked(&mut pool.t_max[..], base, alive, F::splat(f32::INFINITY));
 
     // Russian roulette on the throughput, corrected for radiance compression at refraction.
     let roulette = alive & depth.gt(F::I::splat(cfg.rr_depth as i32 - 1));
@@ -419,7 +441,7 @@ fn vector_vertex<F: Float>(
     store_spec_masked(&mut pool.beta, base, m, beta);
     store_spec_masked(&mut pool.l, base, m, l);
     let alive_i = F::I::select(alive, F::I::splat(1), F::I::splat(0));
-    store_masked_int::<F>(&mut pool.alive, base, m, alive_i);
+    store_masked_int::<F>(&mut pool.alive[..], base, m, alive_i);
 }
 
 /// Picks a light for each lane of `m` and samples a direction to it from (p, ng)
@@ -436,37 +458,45 @@ fn sample_lights<F: Float>(
     u1: F,
     lambda: &Spec<F>,
     wl_pdf: &Spec<F>,
+    d65: &Spec<F>,
     scratch: &mut Scratch,
 ) -> LightSample<F> {
     let (scene, prog) = (c.scene, c.prog);
     let zero = F::splat(0.0);
-    // Per lane: the light, and what depends on its own tables.
+    let no_sample = LightSample {
+        valid: F::M::splat(false),
+        l: [zero; 4],
+        wi: V3::new(zero, zero, zero),
+        pdf: zero,
+        p_light: V3::new(zero, zero, zero),
+        delta: F::M::splat(false),
+        pmf: zero,
+    };
+    let Some((chosen, pmf)) = scene.light_sampler.sample_lanes(u_light) else {
+        return no_sample;
+    };
+    // Per lane: what depends on the chosen light's own tables.
     let light = &mut scratch.light_index;
+    chosen.store(light);
     let (sc, rest) = scratch.light.split_at_mut(13);
     let (tri, rest) = rest.split_at_mut(9);
-    let (pmf, ux) = rest.split_at_mut(1);
-    let (pmf, ux) = (&mut pmf[0], &mut ux[0]);
-    let mut chosen = 0u32;
+    let (us, ux) = rest.split_at_mut(2);
+    let ux = &mut ux[0];
+    u0.store(&mut us[0]);
+    u1.store(&mut us[1]);
+    // Lane lights: the triangle's corners and the remapped u0 (alias table in f64); other
+    // lights: their own scalar sample.
     let mut in_lanes = 0u32;
-    // Lane lights: the triangle's corners and the remapped u0 (alias table in f64).
-
-    // Other lights: the scalar sample.
-
     let mut sc_ok = 0u32;
     let mut delta = 0u32;
     for i in lanes(m.bits()) {
-        let Some((li, pm)) = scene.light_sampler.sample(u_light.lane(i)) else {
-            continue;
-        };
-        chosen |= 1 << i;
-        light[i] = li as u32;
-        pmf[i] = pm;
+        let li = light[i] as usize;
         if prog.light_lanes[li] == 1 {
             in_lanes |= 1 << i;
             let Shape::Mesh(mesh) = &scene.shapes[prog.light_shape[li] as usize] else {
                 unreachable!("lane lights are meshes")
             };
-            let (t, r) = mesh.alias().sample(u0.lane(i));
+            let (t, r) = mesh.alias().sample(us[0][i]);
             ux[i] = r;
             let corners = mesh.triangle(t as u32).map(|k| mesh.position(k));
             for (k, q) in corners.iter().enumerate() {
@@ -483,7 +513,7 @@ fn sample_lights<F: Float>(
                 lambda: std::array::from_fn(|k| lambda[k].lane(i)),
                 pdf: std::array::from_fn(|k| wl_pdf[k].lane(i)),
             };
-            let u = Vec2::new(u0.lane(i), u1.lane(i));
+            let u = Vec2::new(us[0][i], us[1][i]);
             if let Some(ls) = scene.lights[li].sample_li(&ctx, u, &wl, &scene.shapes) {
                 sc_ok |= 1 << i;
                 delta |= (ls.is_delta as u32) << i;
@@ -506,7 +536,7 @@ fn sample_lights<F: Float>(
         pdf: F::load(&sc[10]),
         p_light: V3::new(F::load(&sc[7]), F::load(&sc[8]), F::load(&sc[9])),
         delta: F::M::from_bits(delta),
-        pmf: F::load(pmf),
+        pmf,
     };
     if in_lanes != 0 {
         // Mesh area lights ([`crate::shape::TriangleMesh::sample_direct`] and
@@ -520,15 +550,16 @@ fn sample_lights<F: Float>(
         let b2 = F::splat(1.0) - b0 - b1;
         let pos = p0 * b0 + p1 * b1 + p2 * b2;
         let n = (p1 - p0).cross(p2 - p0).normalize();
-        let flip = F::I::gather(&prog.light_flip, light).eq(F::I::splat(1));
+        let lights = Groups::<F>::new(light, lm);
+        let flip = lights.i(&prog.light_flip).eq(F::I::splat(1));
         let n = V3::select(flip, -n, n);
-        let pdf = area_to_solid_angle_lanes(F::gather(&prog.light_inv_area, light), p, pos, n);
+        let pdf = area_to_solid_angle_lanes(lights.f(&prog.light_inv_area), p, pos, n);
         let dd = pos - p;
         let dist2 = dd.length_squared();
         let wi = dd / dist2.sqrt();
         let ok = pdf.gt(zero) & pdf.is_finite() & dist2.gt(zero) & !n.dot(-wi).le(zero);
         let ok = lm & ok;
-        let le = eval_spectrum(&prog.spectra, F::I::gather(&prog.light_spec, light), lambda);
+        let le = eval_spectrum(&prog.spectra, lights.i(&prog.light_spec), lm, lambda, d65);
         out.valid = out.valid | ok;
         for (o, &e) in out.l.iter_mut().zip(&le) {
             *o = F::select(lm, e, *o);
@@ -537,6 +568,5 @@ fn sample_lights<F: Float>(
         out.pdf = F::select(lm, pdf, out.pdf);
         out.p_light = V3::select(lm, pos, out.p_light);
     }
-    let _ = chosen;
     out
 }

@@ -36,7 +36,7 @@ pub(crate) fn read_text(path: &Path) -> std::io::Result<String> {
 pub(crate) fn decode_text(bytes: Vec<u8>) -> std::io::Result<String> {
     let invalid = |what: String| std::io::Error::new(std::io::ErrorKind::InvalidData, what);
     let utf16 = |body: &[u8], big_endian: bool| {
-        if body.len() % 2 != 0 {
+        if !body.len().is_multiple_of(2) {
             return Err(invalid(
                 "UTF-16 text with an odd number of bytes; expected whole 16-bit units".into(),
             ));
