@@ -17,11 +17,13 @@ neighbourhood is not all the same part are dropped (edges and defocus mix parts,
 of two other indices could equal this one's).
 
 Colour is CIE L*a*b* of the linear sRGB pixels, seen as an observer adapted to the scene's own
-light sees them. The white is what a white Lambertian surface lit like the ground would show,
-found through the albedo AOV: its luminance Y_n is the median over soil pixels of Y / albedo_Y
-(so both lights are exposed alike), and its colour the median, channel by channel, of
-RGB / albedo over the lit half of those pixels (in sun the sunlit ground; the ground in shade
-sees only the bluer sky). Pixels are taken to XYZ, adapted from that white to D65 by the
+light sees them. The white is what a white Lambertian surface lit like the open ground would
+show, found through the albedo AOV over the lit soil pixels, those whose Y / albedo_Y is at least
+half its 90th percentile over the soil (in sun the sunlit ground, not the ground in the shade of
+the snake, the leaves and the crumbs, an order of magnitude darker and lit by the bluer sky
+alone; under the overcast sky all but occluded crevices): its luminance Y_n is the median of
+Y / albedo_Y over them (so both lights are exposed alike), and its colour the median, channel by
+channel, of RGB / albedo. Pixels are taken to XYZ, adapted from that white to D65 by the
 Bradford transform (von Kries scaling in Bradford's sharpened cone space, as in CIECAM97s and
 ICC colour management), and converted to L*a*b* against D65 with Y = Y_n. Why: the issue's
 description of the animal ("plain brown" in dull light, a rainbow sheen in sun) comes from
@@ -31,7 +33,7 @@ pulled towards orange (a white surface under it has a* ≈ +3, b* ≈ +19: the s
 illuminant's white before adaptation), so a neutral surface would already count as nearly
 "saturated" and the highlights' hues would be the sun's colour rather than the skin's. The
 adaptation is the same for both lights and for every criterion below; under the overcast sky
-(a grey `constant` emitter) the white is D65 within 0.1 in a* and b*, so the dull-light figures
+(a grey `constant` emitter) the white is D65 within 0.5 in a* and b*, so the dull-light figures
 are the same either way. `--reference d65` measures without adaptation, as the script did
 before (the README's figures before 2026-12-02's second change were taken so).
 
@@ -76,8 +78,12 @@ pixels' a*b* from their mean (how far from uniform the back is: bands and speckl
     python3 tools/two_lights.py --reference d65    # no chromatic adaptation (see above)
 
 Changes on 2026-12-02 (issue 14): the criteria and their PASS/FAIL lines, the colour spread, and
--D; then the chromatic adaptation to the scene's white (above; the mask and the exposure are
-as before), --seed, --measure and --reference.
+-D; then the chromatic adaptation to the scene's white (above; the mask as before), --seed,
+--measure and --reference; then Y_n from the lit soil only. It was the median over all soil
+pixels, which in sun fell just inside the sunlit cluster when a little under half the soil was
+shaded (480x270: 48 %, Y_n 0.25 against the lit soil's 0.375) and into the shade when more was
+(-Dhour=17.6: Y_n 0.025), exposing the snake for the shade and raising its L* and C* with it:
+the flagship's highlight C*ab (with n2 = 1.46) was 24.6 so, 21.5 against the lit soil.
 
 -D NAME=VALUE sets a scene parameter for both renders (the lights' own settings come after it
 and win); the figures the README quotes come from the script without -D.
@@ -186,11 +192,14 @@ def report(name, planes, legend, reference):
     alb_y = alb @ np.array([0.2126, 0.7152, 0.0722])
     soil = part_mask(planes, legend, "soil") & (alb_y > 0.02)
     irradiance = lum[soil] / alb_y[soil]
-    yn = float(np.median(irradiance))
-    # The illuminant's colour: what a white Lambertian surface lit like the ground would show,
-    # channel by channel, over the lit half of the soil (the sunlit ground in sun; in shade the
-    # ground sees the bluer sky only).
-    lit = irradiance >= yn
+    # The lit ground: in sun, the sunlit soil and the soil in shade (the snake's, the leaves',
+    # the crumbs' own) form two clusters an order of magnitude apart, and a median over both
+    # lands wherever the shaded fraction puts it; soil at least half as lit as the 90th
+    # percentile is the sunlit cluster (under the overcast sky, all but occluded crevices).
+    lit = irradiance >= 0.5 * np.quantile(irradiance, 0.9)
+    yn = float(np.median(irradiance[lit]))
+    # The illuminant's colour: what a white Lambertian surface lit like that ground would show,
+    # channel by channel (in shade the ground sees the bluer sky only).
     white = np.median(rgb[soil][lit] / np.maximum(alb[soil][lit], 1e-3), axis=0)
     adapt = adaptation(white) if reference == "scene" else np.eye(3)
     _, wa, wb = lab((white / (white @ np.array([0.2126, 0.7152, 0.0722])))[None, :], 1.0)
@@ -204,8 +213,8 @@ def report(name, planes, legend, reference):
     h = np.degrees(np.arctan2(b, a)) % 360
     Lb, _, _ = lab(rgb[belly], yn, adapt)
     print(f"\n{name}")
-    print(f"  white reference Y_n = {yn:.4g} (from {soil.sum()} soil pixels); the illuminant's "
-          f"white in D65 Lab: a* {wa[0]:+.1f}, b* {wb[0]:+.1f} "
+    print(f"  white reference Y_n = {yn:.4g} (from {lit.sum()} lit of {soil.sum()} soil pixels); "
+          f"the illuminant's white in D65 Lab: a* {wa[0]:+.1f}, b* {wb[0]:+.1f} "
           + ("(adapted to D65 by Bradford)" if reference == "scene" else "(not adapted)"))
     hue_mean = np.degrees(np.arctan2(b.mean(), a.mean())) % 360
     spread = float(np.sqrt(np.mean((a - a.mean()) ** 2 + (b - b.mean()) ** 2)))
