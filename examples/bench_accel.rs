@@ -33,31 +33,17 @@ fn peak_rss_mb() -> f64 {
         .map_or(f64::NAN, |k| k / 1024.0)
 }
 
-/// CPU seconds of the calling thread (Linux; wall-clock seconds elsewhere). On a busy machine
-/// this is much steadier than wall time, since time spent descheduled does not count.
+/// CPU seconds of the calling thread (wall-clock seconds where that cannot be read). On a busy
+/// machine this is much steadier than wall time, since time spent descheduled does not count.
 fn thread_seconds() -> f64 {
-    #[cfg(target_os = "linux")]
-    {
-        #[repr(C)]
-        struct Timespec {
-            sec: i64,
-            nsec: i64,
-        }
-        extern "C" {
-            fn clock_gettime(clock: i32, ts: *mut Timespec) -> i32;
-        }
-        const CLOCK_THREAD_CPUTIME_ID: i32 = 3;
-        let mut ts = Timespec { sec: 0, nsec: 0 };
-        // SAFETY: clock_gettime writes one timespec, which `ts` is.
-        if unsafe { clock_gettime(CLOCK_THREAD_CPUTIME_ID, &mut ts) } == 0 {
-            return ts.sec as f64 + ts.nsec as f64 * 1e-9;
-        }
+    let t = ophis::render::cpu_seconds(ophis::render::CpuClock::Thread);
+    if t.is_finite() {
+        return t;
     }
     thread_local!(static START: Instant = Instant::now());
     START.with(|s| s.elapsed().as_secs_f64())
 }
 
-/// Minimum time over `repeat` runs of `f` (wall clock), and its last result.
 fn best<T>(repeat: usize, mut f: impl FnMut() -> T) -> (f64, T) {
     let mut out = None;
     let mut best = f64::INFINITY;

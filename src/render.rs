@@ -178,7 +178,7 @@ pub fn render_with(
     );
     prepare_aovs(scene, film);
     let t0 = Instant::now();
-    let cpu0 = process_cpu_seconds();
+    let cpu0 = cpu_seconds(CpuClock::Process);
     let program = (opts.engine == Engine::Auto && wave::supports(scene))
         .then(|| wave::WaveProgram::new(scene));
     let (w, h) = (scene.width, scene.height);
@@ -256,14 +256,23 @@ pub fn render_with(
         spp_complete,
         samples: done.load(Ordering::Relaxed),
         seconds: t0.elapsed().as_secs_f64(),
-        cpu_seconds: process_cpu_seconds() - cpu0,
+        cpu_seconds: cpu_seconds(CpuClock::Process) - cpu0,
         stopped_early,
     }
 }
 
-/// CPU seconds this process has used so far, all threads together (Linux, via
-/// `clock_gettime(CLOCK_PROCESS_CPUTIME_ID)`, 64-bit); NaN elsewhere.
-pub fn process_cpu_seconds() -> f64 {
+/// Whose CPU time [`cpu_seconds`] reads.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CpuClock {
+    /// All the threads of this process together.
+    Process,
+    /// The calling thread alone.
+    Thread,
+}
+
+/// CPU seconds used so far by this process or thread (Linux 64-bit, via `clock_gettime`);
+/// NaN elsewhere.
+pub fn cpu_seconds(clock: CpuClock) -> f64 {
     #[cfg(all(target_os = "linux", target_pointer_width = "64"))]
     {
         #[repr(C)]
@@ -274,13 +283,18 @@ pub fn process_cpu_seconds() -> f64 {
         extern "C" {
             fn clock_gettime(clock: i32, ts: *mut Timespec) -> i32;
         }
-        const CLOCK_PROCESS_CPUTIME_ID: i32 = 2;
+        // CLOCK_PROCESS_CPUTIME_ID and CLOCK_THREAD_CPUTIME_ID.
+        let id = match clock {
+            CpuClock::Process => 2,
+            CpuClock::Thread => 3,
+        };
         let mut ts = Timespec { sec: 0, nsec: 0 };
         // SAFETY: clock_gettime writes one timespec, which `ts` is.
-        if unsafe { clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &mut ts) } == 0 {
+        if unsafe { clock_gettime(id, &mut ts) } == 0 {
             return ts.sec as f64 + ts.nsec as f64 * 1e-9;
         }
     }
+    let _ = clock;
     f64::NAN
 }
 
