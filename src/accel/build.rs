@@ -426,7 +426,8 @@ impl Binner {
     #[inline(always)]
     fn bin(&self, c2: Vec4, axis: usize) -> usize {
         let x = (c2[axis] - self.clo[axis]) * self.scale[axis];
-        let x = if x > 0.0 { x } else { 0.0 }.min(self.last[axis]);
+        // As in `bins`: NaN and negative values go to 0, then the clamp to the last bin.
+        let x = (if x > 0.0 { x } else { 0.0 }).min(self.last[axis]);
         // SAFETY: x is finite and in [0, nb − 1].
         unsafe { x.to_int_unchecked::<u32>() as usize }
     }
