@@ -35,10 +35,11 @@ impl PiecewiseLinear {
         {
             return None;
         }
-        // About four bins per knot (at most START_BINS), so that a search steps over one or
-        // two knots on an evenly tabulated curve.
+        // About sixteen bins per knot (at most START_BINS), so that a search starting two bins
+        // early steps over at most one knot on an evenly tabulated curve: each step is a
+        // gather in the wavefront's lanes, and a table of 16 entries per knot costs little.
         let range = lambda[lambda.len() - 1] - lambda[0];
-        let bin = range / (4 * lambda.len()).min(START_BINS) as f32;
+        let bin = range / (16 * lambda.len()).min(START_BINS) as f32;
         let bins = ((range / bin) as usize + 1).min(START_BINS + 1);
         let start: Vec<u32> = (0..bins)
             .map(|j| {
