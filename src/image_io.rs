@@ -31,7 +31,7 @@ use self::png_io::read_png_bytes;
 pub use self::png_io::write_png;
 
 /// Largest accepted image, in pixels (2^28, i.e. 16384 × 16384).
-pub(crate) const MAX_PIXELS: usize = 1 << 28;
+pub const MAX_PIXELS: usize = 1 << 28;
 
 /// A linear RGB image, row-major, top row first.
 #[derive(Clone, Debug, PartialEq)]
@@ -146,15 +146,20 @@ const PNG_MAGIC: [u8; 8] = [0x89, b'P', b'N', b'G', b'\r', b'\n', 0x1a, b'\n'];
 /// Reads an OpenEXR, Radiance HDR, PNG or JPEG image as linear RGB.
 pub fn read_image(path: impl AsRef<Path>) -> Result<RgbImage, ImageError> {
     let path = path.as_ref();
-    let bytes = read_bytes(path)?;
+    decode_image(path, &read_bytes(path)?)
+}
+
+/// [`read_image`] of a file's bytes already in memory: the format from its signature, `path`
+/// only for messages (and, when no signature matches, for the format the error expects).
+pub fn decode_image(path: &Path, bytes: &[u8]) -> Result<RgbImage, ImageError> {
     if bytes.starts_with(&EXR_MAGIC) {
         read_exr_bytes(path, bytes)
     } else if bytes.starts_with(&PNG_MAGIC) {
-        read_png_bytes(path, &bytes)
+        read_png_bytes(path, bytes)
     } else if bytes.starts_with(b"#?") {
-        hdr::read_hdr_bytes(path, &bytes)
+        hdr::read_hdr_bytes(path, bytes)
     } else if bytes.starts_with(&jpeg_io::JPEG_MAGIC) {
-        jpeg_io::read_jpeg_bytes(path, &bytes)
+        jpeg_io::read_jpeg_bytes(path, bytes)
     } else {
         let ext = path
             .extension()
@@ -198,9 +203,9 @@ fn exr_error(path: &Path, e: exr::error::Error) -> ImageError {
     }
 }
 
-fn read_exr_bytes(path: &Path, bytes: Vec<u8>) -> Result<RgbImage, ImageError> {
+fn read_exr_bytes(path: &Path, bytes: &[u8]) -> Result<RgbImage, ImageError> {
     use exr::prelude::*;
-    let meta = exr::meta::MetaData::read_from_buffered(Cursor::new(&bytes), false)
+    let meta = exr::meta::MetaData::read_from_buffered(Cursor::new(bytes), false)
         .map_err(|e| exr_error(path, e))?;
     let header = meta.headers.first().ok_or_else(|| ImageError::Malformed {
         path: path.to_path_buf(),
@@ -472,7 +477,7 @@ fn read_exr_meta(path: &Path) -> Result<exr::meta::MetaData, ImageError> {
             expected: "OpenEXR",
         });
     }
-    exr::meta::MetaData::read_from_buffered(Cursor::new(&bytes), false)
+    exr::meta::MetaData::read_from_buffered(Cursor::new(bytes), false)
         .map_err(|e| exr_error(path, e))
 }
 

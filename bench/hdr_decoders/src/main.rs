@@ -1,4 +1,5 @@
-//! Compares ophis's RGBE reader (`src/image_io/hdr.rs`, compiled in as it is) with the `image`
+//! Compares ophis's RGBE reader (`src/image_io/hdr.rs`, called through
+//! `ophis::image_io::decode_image`) with the `image`
 //! crate's (`hdr` feature only) and `radiant`: speed on a large run-length encoded file, the
 //! values each decodes, and the errors each gives for broken files. A measurement, not a test:
 //!
@@ -6,68 +7,13 @@
 //!
 //! (its own package, outside ophis's dependencies; the results are in hdr.rs's header.)
 use std::io::Cursor;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::Instant;
 
-pub const MAX_PIXELS: usize = 1 << 28;
-#[derive(Clone, Debug, PartialEq)]
-pub struct RgbImage {
-    pub width: usize,
-    pub height: usize,
-    pub data: Vec<[f32; 3]>,
-}
-impl RgbImage {
-    pub fn new(width: usize, height: usize) -> RgbImage {
-        RgbImage {
-            width,
-            height,
-            data: vec![[0.0; 3]; width * height],
-        }
-    }
-}
-#[derive(Debug, thiserror::Error)]
-pub enum ImageError {
-    #[error("{path}: truncated {format} file: {what}")]
-    Truncated {
-        path: PathBuf,
-        format: &'static str,
-        what: String,
-    },
-    #[error("{path}: malformed {format} file: {what}")]
-    Malformed {
-        path: PathBuf,
-        format: &'static str,
-        what: String,
-    },
-    #[error("{path}: unsupported {format} file: {what}")]
-    Unsupported {
-        path: PathBuf,
-        format: &'static str,
-        what: String,
-    },
-    #[error("{path}: image of {width} × {height} pixels is too large")]
-    TooLarge {
-        path: PathBuf,
-        width: usize,
-        height: usize,
-    },
-}
-fn check_size(path: &Path, width: usize, height: usize) -> Result<(), ImageError> {
-    match width.checked_mul(height) {
-        Some(n) if n <= MAX_PIXELS => Ok(()),
-        _ => Err(ImageError::TooLarge {
-            path: path.to_path_buf(),
-            width,
-            height,
-        }),
-    }
-}
-#[path = "../../../src/image_io/hdr.rs"]
-#[allow(dead_code)]
-mod hdr;
+use ophis::image_io::{decode_image, MAX_PIXELS};
 
 fn ophis(data: &[u8]) -> Result<Vec<[f32; 3]>, String> {
-    hdr::read_hdr_bytes(Path::new("sky.hdr"), data)
+    decode_image(Path::new("sky.hdr"), data)
         .map(|i| i.data)
         .map_err(|e| e.to_string())
 }
