@@ -16,6 +16,7 @@
 //! bounds take min/max, so the result does not depend on the chunking); the subtrees of a node
 //! are built in parallel, each into its own node list, and appended in lane order. The tree is
 //! therefore the same whatever the thread count.
+use super::bins::{area, best_plane, blocks, Binner, Bins, BINS};
 use super::block::ANALYTIC;
 use super::wide::Node8;
 use crate::math::Vec3;
@@ -27,7 +28,6 @@ use rayon::prelude::*;
 pub const MAX_LEAF: usize = 8;
 /// Binary depth from which ranges split at the object median.
 pub const MEDIAN_DEPTH: usize = 64;
-const BINS: usize = 16;
 /// Cost of a binary split (a share of an 8-wide node test) relative to one block test.
 const SPLIT_COST: f32 = 0.35;
 /// A split into a node's free lanes must bring the cost below this fraction of the leaf's.
@@ -41,8 +41,8 @@ const BIN_CHUNK: usize = 32 * 1024;
 #[derive(Clone, Copy, Debug)]
 #[repr(C, align(16))]
 pub struct Ref {
-    lo: Vec4,
-    hi: Vec4,
+    pub(super) lo: Vec4,
+    pub(super) hi: Vec4,
 }
 
 impl Ref {
@@ -53,7 +53,7 @@ impl Ref {
 
     /// Twice the centroid (in xyz).
     #[inline(always)]
-    fn c2(&self) -> Vec4 {
+    pub(super) fn c2(&self) -> Vec4 {
         self.lo + self.hi
     }
 }
@@ -182,20 +182,6 @@ impl Span {
     fn area(&self) -> f32 {
         area(self.lo, self.hi)
     }
-}
-
-fn area(lo: Vec4, hi: Vec4) -> f32 {
-    let e = hi - lo;
-    if e.x < 0.0 || e.y < 0.0 || e.z < 0.0 {
-        return 0.0;
-    }
-    2.0 * (e.x * e.y + e.y * e.z + e.z * e.x)
-}
-
-/// Blocks of four a leaf of `n` primitives needs.
-#[inline]
-fn blocks(n: u32) -> f32 {
-    n.div_ceil(4) as f32
 }
 
 /// Bounds and centroid bounds of `refs` (which start at `start`).
@@ -368,98 +354,6 @@ fn append(out: &mut Nodes, slot: Slot, sub: Nodes) -> Slot {
     }
 }
 
-/// Per axis and bin: primitive count and bounds.
-#[derive(Clone, Copy)]
-struct Bins {
-    n: [[u32; BINS]; 3],
-    lo: [[Vec4; BINS]; 3],
-    hi: [[Vec4; BINS]; 3],
-}
-
-impl Bins {
-    const EMPTY: Bins = Bins {
-        n: [[0; BINS]; 3],
-        lo: [[Vec4::INFINITY; BINS]; 3],
-        hi: [[Vec4::NEG_INFINITY; BINS]; 3],
-    };
-
-    fn merge(mut self, o: &Bins) -> Bins {
-        for a in 0..3 {
-            for b in 0..BINS {
-                self.n[a][b] += o.n[a][b];
-                self.lo[a][b] = self.lo[a][b].min(o.lo[a][b]);
-                self.hi[a][b] = self.hi[a][b].max(o.hi[a][b]);
-            }
-        }
-        self
-    }
-}
-
-/// Maps twice-centroids to the `nb` bins of a span.
-#[derive(Clone, Copy)]
-struct Binner {
-    clo: Vec4,
-    scale: Vec4,
-    /// `nb − 1` in every lane.
-    last: Vec4,
-}
-
-impl Binner {
-    /// The bins along the three axes (lanes x, y, z).
-    #[inline(always)]
-    fn bins(&self, c2: Vec4) -> [usize; 3] {
-        let x = (c2 - self.clo) * self.scale;
-        // NaN (an overflowing centroid) goes to bin 0; the clamp makes the conversion exact.
-        let x = Vec4::select(x.cmpgt(Vec4::ZERO), x, Vec4::ZERO).min(self.last);
-        let [x, y, z, _] = x.to_array();
-        // SAFETY: each value is finite and in [0, nb − 1].
-        unsafe {
-            [
-                x.to_int_unchecked::<u32>() as usize,
-                y.to_int_unchecked::<u32>() as usize,
-                z.to_int_unchecked::<u32>() as usize,
-            ]
-        }
-    }
-
-    /// The bin along one axis: lane `axis` of [`Binner::bins`], computed alone.
-    #[inline(always)]
-    fn bin(&self, c2: Vec4, axis: usize) -> usize {
-        let x = (c2[axis] - self.clo[axis]) * self.scale[axis];
-        // As in `bins`: NaN and negative values go to 0, then the clamp to the last bin.
-        let x = (if x > 0.0 { x } else { 0.0 }).min(self.last[axis]);
-        // SAFETY: x is finite and in [0, nb − 1].
-        unsafe { x.to_int_unchecked::<u32>() as usize }
-    }
-
-    /// Adds `refs` to `bins`. Pairs of refs from a long run go to two sets of bins that are
-    /// merged at the end: neighbouring refs often fall in the same bin, and one set would make
-    /// each wait for the other's update to that bin to be stored.
-    fn fill(&self, refs: &[Ref], bins: &mut Bins) {
-        let add = |bins: &mut Bins, r: &Ref| {
-            for (a, b) in self.bins(r.c2()).into_iter().enumerate() {
-                bins.n[a][b] += 1;
-                bins.lo[a][b] = bins.lo[a][b].min(r.lo);
-                bins.hi[a][b] = bins.hi[a][b].max(r.hi);
-            }
-        };
-        if refs.len() < 256 {
-            refs.iter().for_each(|r| add(bins, r));
-            return;
-        }
-        let mut other = Bins::EMPTY;
-        let mut pairs = refs.chunks_exact(2);
-        for p in &mut pairs {
-            add(bins, &p[0]);
-            add(&mut other, &p[1]);
-        }
-        for r in pairs.remainder() {
-            add(bins, r);
-        }
-        *bins = bins.merge(&other);
-    }
-}
-
 /// Splits a span's refs in two (reordering them), or `None` to make it a leaf. With `free`
 /// the split would go into unused lanes of the current node, so it costs no traversal step.
 fn split(refs: &mut [Ref], sp: &Span, free: bool) -> Option<(Span, Span)> {
@@ -583,36 +477,6 @@ fn split(refs: &mut [Ref], sp: &Span, free: bool) -> Option<(Span, Span)> {
             depth: d,
         },
     ))
-}
-
-/// The cheapest plane along `axis` between the first `nb` bins (plane i: bins below i go left)
-/// and its cost, area·blocks summed over both sides; infinite when no plane separates the `n`
-/// refs.
-fn best_plane(bins: &Bins, axis: usize, nb: usize, n: usize) -> (f32, usize) {
-    let inf = Vec4::splat(f32::INFINITY);
-    let mut right = [0.0f32; BINS];
-    let (mut lo, mut hi, mut cnt) = (inf, -inf, 0);
-    for i in (1..nb).rev() {
-        lo = lo.min(bins.lo[axis][i]);
-        hi = hi.max(bins.hi[axis][i]);
-        cnt += bins.n[axis][i];
-        right[i] = area(lo, hi) * blocks(cnt);
-    }
-    let (mut lo, mut hi, mut cnt) = (inf, -inf, 0);
-    let mut best = (f32::INFINITY, 0);
-    for (i, right) in right.iter().enumerate().take(nb).skip(1) {
-        lo = lo.min(bins.lo[axis][i - 1]);
-        hi = hi.max(bins.hi[axis][i - 1]);
-        cnt += bins.n[axis][i - 1];
-        if cnt == 0 || cnt as usize == n {
-            continue;
-        }
-        let cost = area(lo, hi) * blocks(cnt) + right;
-        if cost < best.0 {
-            best = (cost, i);
-        }
-    }
-    best
 }
 
 /// Splits at the object median along the widest centroid axis.

@@ -6,7 +6,8 @@
 //! a lane id: a triangle's global index, or a flagged shape index for a sphere or disk). A
 //! top-down binned-SAH build reorders the refs and groups them straight into 8-wide nodes,
 //! splitting the child with the largest surface area until a node has eight; leaves hold at
-//! most eight primitives, and the cost model counts them in blocks of four. Large ranges bin in
+//! most eight primitives, and the cost model counts them in blocks of four (the bins and the cost
+//! model: `bins.rs`). Large ranges bin in
 //! parallel chunks and subtrees build in parallel, deterministically.
 //!
 //! **Layout** ([`layout`]). The tree becomes two flat arrays: [`wide::Node8`] (child boxes in
@@ -30,6 +31,7 @@
 use crate::math::Ray;
 use crate::shape::{Hit, Shape};
 
+mod bins;
 pub mod block;
 pub mod brute;
 pub mod build;
