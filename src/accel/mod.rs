@@ -6,9 +6,9 @@
 //! a lane id: a triangle's global index, or a flagged shape index for a sphere or disk). A
 //! top-down binned-SAH build reorders the refs and groups them straight into 8-wide nodes,
 //! splitting the child with the largest surface area until a node has eight; leaves hold at
-//! most eight primitives, and the cost model counts them in blocks of four (the bins and the cost
-//! model: `bins.rs`). Large ranges bin in
-//! parallel chunks and subtrees build in parallel, deterministically.
+//! most eight primitives, and the cost model counts them in blocks of four (the bins and the
+//! cost model are in `bins.rs`). Large ranges bin in parallel chunks and subtrees build in
+//! parallel, deterministically.
 //!
 //! **Layout** ([`layout`]). The tree becomes two flat arrays: [`wide::Node8`] (child boxes in
 //! structure-of-arrays form, 224 bytes) and [`block::Block`] (the leaves: four slots with
