@@ -16,7 +16,10 @@ usage: python3 bench/noise.py [SCENE.xml] [--res 320x180] [--spp 32] [--repeats 
            [--config independent --config stratified --config "stratified:rr=1" ...]
 A configuration is SAMPLER[:NAME=VALUE,...]; the sampler is set through --sampler ophis's
 command line does not have, so the scene must read `$sampler` (the built-in scene does).
-Without SCENE the built-in scene (scenes/xenopeltis.xml) is used.
+Without SCENE the built-in scene (scenes/xenopeltis.xml) is used. Two names are not `-D`
+values: `exe=PATH` renders that configuration with another ophis binary (an older build, to
+measure a speed-up at equal noise) and `scene=PATH` with another scene file; a SAMPLER of `-`
+leaves the scene's own sampler.
 """
 import argparse
 import os
@@ -39,7 +42,11 @@ def read_rgb(path):
 
 
 def render(scene, res, spp, seed, defines, out):
-    exe = os.path.join(ROOT, "target", "release", "ophis")
+    defines = dict(defines)
+    exe = defines.pop("exe", os.path.join(ROOT, "target", "release", "ophis"))
+    scene = defines.pop("scene", scene)
+    if defines.get("sampler") == "-":
+        del defines["sampler"]
     w, h = res
     cmd = [exe, "render"] + ([scene] if scene else []) + [
         f"-Dwidth={w}", f"-Dheight={h}", f"-Dres={w}", "--spp", str(spp), "--seed", str(seed),
