@@ -68,6 +68,7 @@ use crate::math::Vec2;
 use crate::plugin::{declare, Args, Check, Param, SceneError};
 use std::sync::Arc;
 
+mod lanes;
 mod lattice;
 mod relief;
 

@@ -424,3 +424,63 @@ fn the_nearest_lookup_agrees_with_the_full_sample() {
         }
     }
 }
+
+#[test]
+fn the_search_in_lanes_gives_the_scalar_bits_on_every_instruction_set() {
+    // Hex at the narrow and the wide reach, rows, integer scales that wrap (points around
+    // the seam and outside [0, 1)) and fractional ones; the lanes must reproduce the scalar
+    // loop's winner and its floats exactly, on the baseline lanes (one wide) and on AVX2.
+    let configs = [
+        grid(15.0, 15.0, 0.2),
+        grid(600.0, 600.0, 1.0),
+        irregular(),
+        grid(7.0, 9.0, 0.35),
+        grid(5.0, 6.0, 0.36),
+        Scales {
+            layout: Layout::Rows,
+            seed: 8,
+            ..grid(1.0, 15.0, 0.15)
+        },
+        Scales {
+            layout: Layout::Rows,
+            ..grid(3.0, 4.0, 0.9)
+        },
+    ];
+    let bits = |f: &relief::Found| {
+        (
+            f.c0.x.to_bits(),
+            f.c0.y.to_bits(),
+            f.h0,
+            f.cell,
+            f.e.map(f32::to_bits),
+            f.n.map(|n| (n.x.to_bits(), n.y.to_bits())),
+        )
+    };
+    let mut rng = Pcg32::new(17, 1);
+    let mut compared = 0;
+    for s in &configs {
+        for k in 0..4000 {
+            // A quarter of the points near the seam u, v ≈ 0 ≡ 1, some outside [0, 1).
+            let uv = if k % 4 == 0 {
+                Vec2::new(rng.next_f32() * 0.1 - 0.05, rng.next_f32() * 0.1 - 0.05)
+            } else {
+                Vec2::new(rng.next_f32() * 1.2 - 0.1, rng.next_f32() * 1.2 - 0.1)
+            };
+            let p = s.to_cell_space(uv);
+            for edges in [true, false] {
+                let want = bits(&s.search_scalar(p, edges));
+                for isa in crate::accel::Isa::ALL.into_iter().filter(|i| i.supported()) {
+                    assert_eq!(
+                        bits(&s.search_on(isa, p, edges)),
+                        want,
+                        "{:?} at uv {uv:?} on {}",
+                        s.layout,
+                        isa.name()
+                    );
+                    compared += 1;
+                }
+            }
+        }
+    }
+    assert!(compared >= 2 * 7 * 4000);
+}

@@ -94,18 +94,45 @@ impl Scales {
             };
             return (c, h, (i, 0));
         }
-        let (wi, wj) = (wrap(i, lat.pu), wrap(j, lat.pv));
+        let (wi, wj) = self.wrapped(i, j, lat);
         let h = mix(wi as u32 ^ row);
         let mut jx = unit(mix(h ^ 0x68e3_1da4)) - 0.5;
         let jy = unit(mix(h ^ 0xb529_7a4d)) - 0.5;
-        let mut shift = if j.rem_euclid(2) == 1 { 0.5 } else { 0.0 };
         if self.layout == Layout::Rows {
             // Plates stay aligned across the row (centred on half-integers, so that with
             // `scale_u` = 1 a plate spans u ∈ [0, 1]): only their length varies.
-            (jx, shift) = (0.0, 0.5);
+            jx = 0.0;
         }
-        let c = Vec2::new(i as f32 + shift, j as f32) + self.irregularity * Vec2::new(jx, jy);
+        let c = Vec2::new(i as f32 + self.row_shift(j), j as f32)
+            + self.irregularity * Vec2::new(jx, jy);
         (c, h, (wi, wj))
+    }
+
+    /// Lattice index (i, j) wrapped into the periods.
+    #[inline(always)]
+    pub(super) fn wrapped(&self, i: i32, j: i32, lat: Lattice) -> (i32, i32) {
+        (wrap(i, lat.pu), wrap(j, lat.pv))
+    }
+
+    /// How far row j's unjittered centres sit from the integers: every other row is shifted
+    /// by half a cell (hex), every row by half (rows, whose plates span [i, i + 1]).
+    #[inline(always)]
+    pub(super) fn row_shift(&self, j: i32) -> f32 {
+        match self.layout {
+            Layout::Rows => 0.5,
+            _ if j.rem_euclid(2) == 1 => 0.5,
+            _ => 0.0,
+        }
+    }
+
+    /// How many rows and columns either side of a cell [`Scales::candidates`] visits.
+    #[inline(always)]
+    pub(super) fn reach(&self) -> i32 {
+        if self.irregularity <= 0.35 {
+            1
+        } else {
+            2
+        }
     }
 
     /// Calls `f` with every cell that may be nearest to lattice cell (ci, cj) or border it. The
@@ -129,7 +156,7 @@ impl Scales {
             }
             return;
         }
-        let reach = if self.irregularity <= 0.35 { 1 } else { 2 };
+        let reach = self.reach();
         for j in cj - reach..=cj + reach {
             let row = self.row_hash(j, lat);
             for i in ci - reach..=ci + reach {
@@ -149,17 +176,7 @@ impl Scales {
     /// As [`Scales::nearest`], with the cell's centre in cell space (unwrapped, near `uv`).
     #[inline]
     pub fn nearest_center(&self, uv: Vec2) -> ((i32, i32), u32, Vec2) {
-        let p = self.to_cell_space(uv);
-        let lat = self.lattice();
-        let (j0, i0) = (p.y.round() as i32, p.x.floor() as i32);
-        let mut best = (f32::INFINITY, 0u32, (0, 0), Vec2::ZERO);
-        self.candidates(i0, j0, lat, |i, j, row| {
-            let (c, h, cell) = self.center(i, j, row, lat);
-            let d2 = (p - c).length_squared();
-            if d2 < best.0 {
-                best = (d2, h, cell, c);
-            }
-        });
-        (best.2, best.1, best.3)
+        let f = self.search(self.to_cell_space(uv), false);
+        (f.cell, f.h0, f.c0)
     }
 }

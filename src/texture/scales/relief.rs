@@ -2,9 +2,13 @@
 //! — and its gradient in closed form, faded to a mean where cells shrink below the footprint
 //! (see the header of `scales.rs`).
 
+use super::lanes::Pass;
 use super::lattice::unit;
-use super::{ScaleSample, Scales};
+use super::{Layout, ScaleSample, Scales};
+use crate::accel::Isa;
 use crate::math::Vec2;
+use crate::simd::Float;
+use std::sync::OnceLock;
 
 /// Circumradius of the regular cell, the unit of the dome profile.
 pub(super) const CELL_RADIUS: f32 = 0.65;
@@ -67,41 +71,14 @@ impl Scales {
     /// its two nearest edges, each differentiated in closed form.
     pub(super) fn evaluate(&self, uv: Vec2, width: f32) -> (ScaleSample, Vec2) {
         let p = self.to_cell_space(uv);
-        let lat = self.lattice();
-        let (j0, i0) = (p.y.round() as i32, p.x.floor() as i32);
-        let mut best = (f32::INFINITY, Vec2::ZERO, 0u32, (0, 0), (0, 0));
-        self.candidates(i0, j0, lat, |i, j, row| {
-            let (c, h, cell) = self.center(i, j, row, lat);
-            let d2 = (p - c).length_squared();
-            if d2 < best.0 {
-                best = (d2, c, h, cell, (i, j));
-            }
-        });
-        let (_, c0, h0, cell, (bi, bj)) = best;
-        // Distance to the cell edge: the nearest bisector with a neighbour, with the corners
-        // rounded (a smooth minimum) so that the groove has no creases for the bump map to show.
-        // Each bisector distance (m − p)·n is linear in p, with gradient −n.
+        let Found {
+            c0,
+            h0,
+            cell,
+            e: [e1, e2],
+            n: [n1, n2],
+        } = self.search(p, true);
         let round = 0.5 * self.gap;
-        let (mut e1, mut e2) = (f32::INFINITY, f32::INFINITY);
-        let (mut n1, mut n2) = (Vec2::ZERO, Vec2::ZERO);
-        self.candidates(bi, bj, lat, |i, j, row| {
-            if (i, j) == (bi, bj) {
-                return;
-            }
-            let (c, _, _) = self.center(i, j, row, lat);
-            let d = c - c0;
-            let len = d.length();
-            if len > 1e-6 {
-                let n = d / len;
-                let e = (0.5 * (c0 + c) - p).dot(n);
-                if e < e1 {
-                    (e2, n2) = (e1, n1);
-                    (e1, n1) = (e, n);
-                } else if e < e2 {
-                    (e2, n2) = (e, n);
-                }
-            }
-        });
         // Only the two nearest edges meet at a corner of the cell; taking just those keeps the
         // result independent of the order the neighbours were visited in.
         let raw = smooth_min(e1, e2, round);
@@ -148,4 +125,136 @@ impl Scales {
         };
         (sample, d_relief * (1.0 - fade))
     }
+
+    /// The lattice search for cell-space point `p`, in lanes where the CPU has them (see
+    /// `lanes.rs`; the head's seeds always take [`Scales::search_scalar`]); without `edges`,
+    /// the nearest centre only (the edges are left at ∞).
+    #[inline]
+    pub(super) fn search(&self, p: Vec2, edges: bool) -> Found {
+        static ISA: OnceLock<Isa> = OnceLock::new();
+        self.search_on(*ISA.get_or_init(Isa::best), p, edges)
+    }
+
+    /// [`Scales::search`] with the lanes of instruction set `isa` (which the CPU must support);
+    /// every choice gives the same bits.
+    pub(super) fn search_on(&self, isa: Isa, p: Vec2, edges: bool) -> Found {
+        if self.layout == Layout::Head {
+            return self.search_scalar(p, edges);
+        }
+        #[cfg(target_arch = "x86_64")]
+        if isa != Isa::Baseline {
+            #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+            fn avx2(s: &Scales, p: Vec2, edges: bool) -> Found {
+                s.search_lanes::<crate::simd::F8>(p, edges)
+            }
+            assert!(isa.supported());
+            // SAFETY: the CPU has AVX2 and the rest of the set (checked just above).
+            return unsafe { avx2(self, p, edges) };
+        }
+        let _ = isa;
+        self.search_lanes::<f32>(p, edges)
+    }
+
+    /// The search with the candidates in lanes of type `F` (see `lanes.rs`).
+    #[inline(always)]
+    fn search_lanes<F: Float>(&self, p: Vec2, edges: bool) -> Found {
+        let lat = self.lattice();
+        let (j0, i0) = (p.y.round() as i32, p.x.floor() as i32);
+        let first = Pass::centres::<F>(self, i0, j0, lat);
+        let k0 = first.nearest::<F>(p);
+        let (bi, bj) = first.index(k0, i0, j0);
+        let c0 = first.center(k0);
+        let h0 = first.hash[k0];
+        let cell = self.wrapped(bi, bj, lat);
+        let (mut e1, mut e2) = (f32::INFINITY, f32::INFINITY);
+        let (mut n1, mut n2) = (Vec2::ZERO, Vec2::ZERO);
+        if !edges {
+            return Found {
+                c0,
+                h0,
+                cell,
+                e: [e1, e2],
+                n: [n1, n2],
+            };
+        }
+        let mut second = Pass::centres::<F>(self, bi, bj, lat);
+        second.bisectors::<F>(c0, p);
+        let own = (second.n - 1) / 2;
+        for k in 0..second.n {
+            if k == own || second.len[k] <= 1e-6 {
+                continue;
+            }
+            let (e, n) = (second.e[k], Vec2::new(second.nx[k], second.ny[k]));
+            if e < e1 {
+                (e2, n2) = (e1, n1);
+                (e1, n1) = (e, n);
+            } else if e < e2 {
+                (e2, n2) = (e, n);
+            }
+        }
+        Found {
+            c0,
+            h0,
+            cell,
+            e: [e1, e2],
+            n: [n1, n2],
+        }
+    }
+
+    /// The search one candidate at a time: the nearest centre, then (with `edges`) the two
+    /// nearest bisectors between it and its neighbours — the distance to the cell's edge,
+    /// whose corners [`Scales::evaluate`] rounds.
+    pub(super) fn search_scalar(&self, p: Vec2, edges: bool) -> Found {
+        let lat = self.lattice();
+        let (j0, i0) = (p.y.round() as i32, p.x.floor() as i32);
+        let mut best = (f32::INFINITY, Vec2::ZERO, 0u32, (0, 0), (0, 0));
+        self.candidates(i0, j0, lat, |i, j, row| {
+            let (c, h, cell) = self.center(i, j, row, lat);
+            let d2 = (p - c).length_squared();
+            if d2 < best.0 {
+                best = (d2, c, h, cell, (i, j));
+            }
+        });
+        let (_, c0, h0, cell, (bi, bj)) = best;
+        let (mut e1, mut e2) = (f32::INFINITY, f32::INFINITY);
+        let (mut n1, mut n2) = (Vec2::ZERO, Vec2::ZERO);
+        self.candidates(bi, bj, lat, |i, j, row| {
+            if !edges || (i, j) == (bi, bj) {
+                return;
+            }
+            let (c, _, _) = self.center(i, j, row, lat);
+            let d = c - c0;
+            let len = d.length();
+            if len > 1e-6 {
+                let n = d / len;
+                let e = (0.5 * (c0 + c) - p).dot(n);
+                if e < e1 {
+                    (e2, n2) = (e1, n1);
+                    (e1, n1) = (e, n);
+                } else if e < e2 {
+                    (e2, n2) = (e, n);
+                }
+            }
+        });
+        Found {
+            c0,
+            h0,
+            cell,
+            e: [e1, e2],
+            n: [n1, n2],
+        }
+    }
+}
+
+/// What the lattice search finds for a point: the nearest centre (cell space), its hash and
+/// wrapped lattice index, and the two nearest cell edges — each a distance from the point to
+/// the bisector with a neighbour and the bisector's unit normal, pointing to the neighbour —
+/// nearest first (∞ and zero where a cell has fewer neighbours).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct Found {
+    pub c0: Vec2,
+    pub h0: u32,
+    pub cell: (i32, i32),
+    pub e: [f32; 2],
+    pub n: [Vec2; 2],
 }
