@@ -12,6 +12,9 @@
 //! `MESH.ply` (default `target/bench/blob.ply`, written by `bench/make_mesh.py`), seen from the
 //! benchmark camera. With `--scene` they are the scene's shapes and camera.
 //!
+//! Rays are traced one by one (`Accel::intersect`, `Accel::occluded`) and in batches of 1024
+//! (`Bvh::intersect_n`, `Bvh::occluded_n`, as the wavefront integrator traces them).
+//!
 //! Rays: camera rays through a `side`² grid; from each camera hit, a bounce ray in a cosine-
 //! distributed direction (incoherent) and a shadow ray to a random point of the ceiling light
 //! (for `--scene`: of the scene's bounds). Load and build times are wall-clock minima over
@@ -110,6 +113,29 @@ fn trace_rays(bvh: &Bvh, shapes: &[Shape], rays: &[Ray], any: bool) -> u64 {
             hash_hit(&bvh.intersect(shapes, r))
         };
         sum = sum.wrapping_mul(3).wrapping_add(v);
+    }
+    sum
+}
+
+/// [`trace_rays`] in batches of 1024 rays, as the wavefront integrator traces them
+/// (`Bvh::intersect_n`, `Bvh::occluded_n`); the same checksum.
+fn trace_batches(bvh: &Bvh, shapes: &[Shape], rays: &[Ray], any: bool) -> u64 {
+    let mut sum = 0u64;
+    let mut hits = vec![None; 1024];
+    let mut blocked = vec![false; 1024];
+    for chunk in rays.chunks(1024) {
+        let n = chunk.len();
+        if any {
+            bvh.occluded_n(shapes, chunk, &mut blocked[..n]);
+            for &b in &blocked[..n] {
+                sum = sum.wrapping_mul(3).wrapping_add(b as u64);
+            }
+        } else {
+            bvh.intersect_n(shapes, chunk, &mut hits[..n]);
+            for h in &hits[..n] {
+                sum = sum.wrapping_mul(3).wrapping_add(hash_hit(h));
+            }
+        }
     }
     sum
 }
@@ -252,18 +278,26 @@ fn main() {
         ("bounce", &bounce, false),
         ("shadow", &shadow, true),
     ] {
-        let mut line = format!("  {name:<7} {:>8}", rays.len());
-        for &isa in &supported {
-            bvh.set_isa(isa);
-            let (t, sum) = best_cpu(a.repeat, || trace_rays(&bvh, &shapes, rays, any));
-            line += &format!(
-                "  {}: {:6.2} ({:04x})",
-                isa.name(),
-                rays.len() as f64 / t / 1e6,
-                sum & 0xffff
-            );
+        for (mode, trace) in [
+            (
+                "one by one",
+                trace_rays as fn(&Bvh, &[Shape], &[Ray], bool) -> u64,
+            ),
+            ("in batches", trace_batches),
+        ] {
+            let mut line = format!("  {name:<7} {:>8} {mode}", rays.len());
+            for &isa in &supported {
+                bvh.set_isa(isa);
+                let (t, sum) = best_cpu(a.repeat, || trace(&bvh, &shapes, rays, any));
+                line += &format!(
+                    "  {}: {:6.2} ({:04x})",
+                    isa.name(),
+                    rays.len() as f64 / t / 1e6,
+                    sum & 0xffff
+                );
+            }
+            println!("{line}");
         }
-        println!("{line}");
     }
     println!("peak RSS {:.1} MB", peak_rss_mb());
 }
