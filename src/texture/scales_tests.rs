@@ -484,3 +484,58 @@ fn the_search_in_lanes_gives_the_scalar_bits_on_every_instruction_set() {
     }
     assert!(compared >= 2 * 7 * 4000);
 }
+
+#[test]
+fn the_remembered_search_answers_only_the_same_question() {
+    // Patterns that differ in one input each, asked at the same points in an interleaved
+    // order, with and without edges: every answer must be the one a fresh search gives.
+    let base = grid(15.0, 15.0, 0.2);
+    let patterns = [
+        base.clone(),
+        Scales {
+            seed: 1,
+            ..base.clone()
+        },
+        Scales {
+            irregularity: 0.6,
+            ..base.clone()
+        },
+        Scales {
+            scale_u: 16.0,
+            ..base.clone()
+        },
+        Scales {
+            scale_v: 14.0,
+            ..base.clone()
+        },
+        Scales {
+            layout: Layout::Rows,
+            ..base.clone()
+        },
+        Scales {
+            layout: Layout::Head,
+            ..base.clone()
+        },
+        Scales {
+            gap: 0.2,
+            dome: 0.9,
+            ..base.clone()
+        },
+    ];
+    let bits = |f: relief::Found| format!("{:?}", (f.c0, f.h0, f.cell, f.e.map(f32::to_bits), f.n));
+    let mut rng = Pcg32::new(2, 3);
+    for _ in 0..300 {
+        let p = Vec2::new(rng.next_f32() * 15.0, rng.next_f32() * 15.0);
+        for round in 0..3 {
+            for (k, s) in patterns.iter().enumerate() {
+                let edges = (k + round) % 2 == 0;
+                let want = bits(s.search_on(crate::accel::Isa::Baseline, p, edges));
+                assert_eq!(bits(s.search(p, edges)), want, "pattern {k}, edges {edges}");
+                assert_eq!(
+                    bits(s.search(p, !edges)),
+                    bits(s.search_on(crate::accel::Isa::Baseline, p, !edges))
+                );
+            }
+        }
+    }
+}

@@ -8,6 +8,7 @@ use super::{Layout, ScaleSample, Scales};
 use crate::accel::Isa;
 use crate::math::Vec2;
 use crate::simd::Float;
+use std::cell::Cell;
 use std::sync::OnceLock;
 
 /// Circumradius of the regular cell, the unit of the dome profile.
@@ -129,10 +130,32 @@ impl Scales {
     /// The lattice search for cell-space point `p`, in lanes where the CPU has them (see
     /// `lanes.rs`; the head's seeds always take [`Scales::search_scalar`]); without `edges`,
     /// the nearest centre only (the edges are left at ∞).
+    ///
+    /// A shading point asks the same pattern at the same point several times — the bump map's
+    /// relief, the cell's tilt, a `per_scale` film thickness, a groove colour — so each thread
+    /// keeps its last answer with everything it depends on (the point's bits and the pattern's
+    /// layout, scales, irregularity and seed) and gives it again for the same question.
     #[inline]
     pub(super) fn search(&self, p: Vec2, edges: bool) -> Found {
         static ISA: OnceLock<Isa> = OnceLock::new();
-        self.search_on(*ISA.get_or_init(Isa::best), p, edges)
+        thread_local! {
+            static LAST: Cell<Option<(SearchKey, bool, Found)>> = const { Cell::new(None) };
+        }
+        let key = SearchKey {
+            p: [p.x.to_bits(), p.y.to_bits()],
+            scale: [self.scale_u.to_bits(), self.scale_v.to_bits()],
+            irregularity: self.irregularity.to_bits(),
+            seed: self.seed,
+            layout: self.layout,
+        };
+        if let Some((k, with_edges, found)) = LAST.get() {
+            if k == key && (with_edges || !edges) {
+                return if edges { found } else { found.without_edges() };
+            }
+        }
+        let found = self.search_on(*ISA.get_or_init(Isa::best), p, edges);
+        LAST.set(Some((key, edges, found)));
+        found
     }
 
     /// [`Scales::search`] with the lanes of instruction set `isa` (which the CPU must support);
@@ -246,6 +269,16 @@ impl Scales {
     }
 }
 
+/// Everything a search's answer depends on (see [`Scales::search`]).
+#[derive(Clone, Copy, PartialEq, Eq)]
+struct SearchKey {
+    p: [u32; 2],
+    scale: [u32; 2],
+    irregularity: u32,
+    seed: u32,
+    layout: Layout,
+}
+
 /// What the lattice search finds for a point: the nearest centre (cell space), its hash and
 /// wrapped lattice index, and the two nearest cell edges — each a distance from the point to
 /// the bisector with a neighbour and the bisector's unit normal, pointing to the neighbour —
@@ -257,4 +290,16 @@ pub(super) struct Found {
     pub cell: (i32, i32),
     pub e: [f32; 2],
     pub n: [Vec2; 2],
+}
+
+impl Found {
+    /// The nearest centre alone, as a search without edges gives it.
+    #[inline]
+    fn without_edges(self) -> Found {
+        Found {
+            e: [f32::INFINITY; 2],
+            n: [Vec2::ZERO; 2],
+            ..self
+        }
+    }
 }
