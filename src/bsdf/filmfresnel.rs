@@ -54,6 +54,9 @@ pub struct FilmSamples<const K: usize> {
     pub base_k: [f32; K],
 }
 
+/// A film, an angle's bits and [`FilmFresnel::eval`]'s answer for them.
+type Remembered = (FilmFresnel, u32, (SampledSpectrum, f32));
+
 /// The film's Fresnel term at one shading point.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FilmFresnel {
@@ -190,8 +193,7 @@ impl FilmFresnel {
     #[inline]
     pub fn eval(&self, cos0: f32) -> (SampledSpectrum, f32) {
         thread_local! {
-            static LAST: Cell<Option<(FilmFresnel, u32, (SampledSpectrum, f32))>> =
-                const { Cell::new(None) };
+            static LAST: Cell<Option<Remembered>> = const { Cell::new(None) };
         }
         if let Some((film, cos, answer)) = LAST.get() {
             if cos == cos0.to_bits() && film.same_bits(self) {
