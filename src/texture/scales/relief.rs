@@ -189,39 +189,18 @@ impl Scales {
         let c0 = first.center(k0);
         let h0 = first.hash[k0];
         let cell = self.wrapped(bi, bj, lat);
-        let (mut e1, mut e2) = (f32::INFINITY, f32::INFINITY);
-        let (mut n1, mut n2) = (Vec2::ZERO, Vec2::ZERO);
-        if !edges {
-            return Found {
-                c0,
-                h0,
-                cell,
-                e: [e1, e2],
-                n: [n1, n2],
-            };
-        }
-        let mut second = Pass::centres::<F>(self, bi, bj, lat);
-        second.bisectors::<F>(c0, p);
-        let own = (second.n - 1) / 2;
-        for k in 0..second.n {
-            if k == own || second.len[k] <= 1e-6 {
-                continue;
-            }
-            let (e, n) = (second.e[k], Vec2::new(second.nx[k], second.ny[k]));
-            if e < e1 {
-                (e2, n2) = (e1, n1);
-                (e1, n1) = (e, n);
-            } else if e < e2 {
-                (e2, n2) = (e, n);
+        let mut near = TwoNearest::NONE;
+        if edges {
+            let mut second = Pass::centres::<F>(self, bi, bj, lat);
+            second.bisectors::<F>(c0, p);
+            let own = (second.n - 1) / 2;
+            for k in 0..second.n {
+                if k != own && second.len[k] > 1e-6 {
+                    near.offer(second.e[k], Vec2::new(second.nx[k], second.ny[k]));
+                }
             }
         }
-        Found {
-            c0,
-            h0,
-            cell,
-            e: [e1, e2],
-            n: [n1, n2],
-        }
+        near.found(c0, h0, cell)
     }
 
     /// The search one candidate at a time: the nearest centre, then (with `edges`) the two
@@ -239,8 +218,7 @@ impl Scales {
             }
         });
         let (_, c0, h0, cell, (bi, bj)) = best;
-        let (mut e1, mut e2) = (f32::INFINITY, f32::INFINITY);
-        let (mut n1, mut n2) = (Vec2::ZERO, Vec2::ZERO);
+        let mut near = TwoNearest::NONE;
         self.candidates(bi, bj, lat, |i, j, row| {
             if !edges || (i, j) == (bi, bj) {
                 return;
@@ -250,21 +228,48 @@ impl Scales {
             let len = d.length();
             if len > 1e-6 {
                 let n = d / len;
-                let e = (0.5 * (c0 + c) - p).dot(n);
-                if e < e1 {
-                    (e2, n2) = (e1, n1);
-                    (e1, n1) = (e, n);
-                } else if e < e2 {
-                    (e2, n2) = (e, n);
-                }
+                near.offer((0.5 * (c0 + c) - p).dot(n), n);
             }
         });
+        near.found(c0, h0, cell)
+    }
+}
+
+/// The two nearest cell edges offered so far, nearest first; one at the same distance as a
+/// kept one does not displace it (so the first offered wins ties, as the visiting order decides).
+#[derive(Clone, Copy)]
+struct TwoNearest {
+    e: [f32; 2],
+    n: [Vec2; 2],
+}
+
+impl TwoNearest {
+    /// None yet: both at ∞.
+    const NONE: TwoNearest = TwoNearest {
+        e: [f32::INFINITY; 2],
+        n: [Vec2::ZERO; 2],
+    };
+
+    /// Keeps the edge at distance `e` with normal `n` if it is among the two nearest.
+    #[inline(always)]
+    fn offer(&mut self, e: f32, n: Vec2) {
+        if e < self.e[0] {
+            self.e = [e, self.e[0]];
+            self.n = [n, self.n[0]];
+        } else if e < self.e[1] {
+            (self.e[1], self.n[1]) = (e, n);
+        }
+    }
+
+    /// The search's answer with these edges.
+    #[inline(always)]
+    fn found(self, c0: Vec2, h0: u32, cell: (i32, i32)) -> Found {
         Found {
             c0,
             h0,
             cell,
-            e: [e1, e2],
-            n: [n1, n2],
+            e: self.e,
+            n: self.n,
         }
     }
 }
@@ -296,10 +301,6 @@ impl Found {
     /// The nearest centre alone, as a search without edges gives it.
     #[inline]
     fn without_edges(self) -> Found {
-        Found {
-            e: [f32::INFINITY; 2],
-            n: [Vec2::ZERO; 2],
-            ..self
-        }
+        TwoNearest::NONE.found(self.c0, self.h0, self.cell)
     }
 }
