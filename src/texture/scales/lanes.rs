@@ -30,7 +30,12 @@ pub(super) struct Pass {
     pub cx: [f32; MAX],
     pub cy: [f32; MAX],
     pub hash: [u32; MAX],
-    /// Per candidate: the bisector distance of the second pass (unset in the first).
+}
+
+/// Per candidate of a [`Pass`], what [`Pass::bisectors`] finds: the distance `e` from the
+/// point to the bisector with the nearest centre, the bisector's unit normal (`nx`, `ny`) and
+/// the distance `len` between the two centres.
+pub(super) struct Bisectors {
     pub e: [f32; MAX],
     pub nx: [f32; MAX],
     pub ny: [f32; MAX],
@@ -69,10 +74,6 @@ impl Pass {
             cx: [0.0; MAX],
             cy: [0.0; MAX],
             hash: [0; MAX],
-            e: [f32::INFINITY; MAX],
-            nx: [0.0; MAX],
-            ny: [0.0; MAX],
-            len: [0.0; MAX],
         };
         // What a candidate takes from its column and its row, laid out per candidate.
         let mut col_key = [0u32; MAX];
@@ -145,7 +146,13 @@ impl Pass {
     /// For every candidate: the unit vector `n` from `c0` to its centre, the centre's distance
     /// `len`, and the distance from `p` to their bisector, (½(c0 + c) − p)·n.
     #[inline(always)]
-    pub fn bisectors<F: Float>(&mut self, c0: Vec2, p: Vec2) {
+    pub fn bisectors<F: Float>(&self, c0: Vec2, p: Vec2) -> Bisectors {
+        let mut b = Bisectors {
+            e: [0.0; MAX],
+            nx: [0.0; MAX],
+            ny: [0.0; MAX],
+            len: [0.0; MAX],
+        };
         let (c0x, c0y) = (F::splat(c0.x), F::splat(c0.y));
         let (px, py) = (F::splat(p.x), F::splat(p.y));
         let half = F::splat(0.5);
@@ -155,10 +162,11 @@ impl Pass {
             let len = (dx * dx + dy * dy).sqrt();
             let (nx, ny) = (dx / len, dy / len);
             let (mx, my) = (half * (c0x + cx) - px, half * (c0y + cy) - py);
-            (mx * nx + my * ny).store_at(&mut self.e, k);
-            nx.store_at(&mut self.nx, k);
-            ny.store_at(&mut self.ny, k);
-            len.store_at(&mut self.len, k);
+            (mx * nx + my * ny).store_at(&mut b.e, k);
+            nx.store_at(&mut b.nx, k);
+            ny.store_at(&mut b.ny, k);
+            len.store_at(&mut b.len, k);
         }
+        b
     }
 }

@@ -158,8 +158,10 @@ impl Scales {
         found
     }
 
-    /// [`Scales::search`] with the lanes of instruction set `isa` (which the CPU must support);
-    /// every choice gives the same bits.
+    /// [`Scales::search`] with the lanes of instruction set `isa`; every choice gives the same
+    /// bits. The caller guarantees that the CPU supports `isa` (as [`Isa::best`] and the tests'
+    /// `Isa::supported` filter do); this is checked in debug builds only, since it runs at
+    /// every shading point.
     pub(super) fn search_on(&self, isa: Isa, p: Vec2, edges: bool) -> Found {
         if self.layout == Layout::Head {
             return self.search_scalar(p, edges);
@@ -170,8 +172,9 @@ impl Scales {
             fn avx2(s: &Scales, p: Vec2, edges: bool) -> Found {
                 s.search_lanes::<crate::simd::F8>(p, edges)
             }
-            assert!(isa.supported());
-            // SAFETY: the CPU has AVX2 and the rest of the set (checked just above).
+            debug_assert!(isa.supported());
+            // SAFETY: the CPU supports `isa` (the caller's guarantee), and every variant
+            // beyond the baseline includes AVX2 and the rest of this set.
             return unsafe { avx2(self, p, edges) };
         }
         let _ = isa;
@@ -191,12 +194,12 @@ impl Scales {
         let cell = self.wrapped(bi, bj, lat);
         let mut near = TwoNearest::NONE;
         if edges {
-            let mut second = Pass::centres::<F>(self, bi, bj, lat);
-            second.bisectors::<F>(c0, p);
+            let second = Pass::centres::<F>(self, bi, bj, lat);
+            let b = second.bisectors::<F>(c0, p);
             let own = (second.n - 1) / 2;
             for k in 0..second.n {
-                if k != own && second.len[k] > 1e-6 {
-                    near.offer(second.e[k], Vec2::new(second.nx[k], second.ny[k]));
+                if k != own && b.len[k] > 1e-6 {
+                    near.offer(b.e[k], Vec2::new(b.nx[k], b.ny[k]));
                 }
             }
         }
