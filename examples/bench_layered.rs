@@ -33,9 +33,9 @@ fn main() {
     let base = || Bxdf::Diffuse(DiffuseBxdf::new(s(0.5)));
     let media = [Medium::absorbing(s(1.4))];
     let build = |closed: bool| {
-        Bxdf::Layered(Box::new(
+        Bxdf::Layered(
             LayeredBxdf::new([coat(), base()], &media, DEFAULT_MAX_DEPTH, closed, 1).unwrap(),
-        ))
+        )
     };
     let film = CoatOptics::Film {
         eta: 1.5,
@@ -73,10 +73,10 @@ fn main() {
         black_box(build(false));
     });
     println!("construct random walk:                   {t:8.0} ns");
-    let film_b = Bxdf::Layered(Box::new(LayeredBxdf {
+    let film_b = Bxdf::Layered(LayeredBxdf {
         model: LayeredModel::Closed(CoatedDiffuse::new(film, s(0.5), s(1.4))),
         seed: 1,
-    }));
+    });
     for (name, b) in [
         ("closed form, dielectric", build(true)),
         ("closed form, film      ", film_b),

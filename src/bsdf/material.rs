@@ -256,7 +256,7 @@ impl Material {
                     });
                 let med = &med[..media.len().min(MAX_INTERFACES - 1)];
                 match LayeredBxdf::new(ifs, med, *max_depth, *closed_form, seed) {
-                    Some(l) => Bxdf::Layered(Box::new(l)),
+                    Some(l) => Bxdf::Layered(l),
                     None => Bxdf::Black,
                 }
             }

@@ -185,8 +185,8 @@ pub enum Bxdf {
     /// `plastic` and `roughplastic`.
     Plastic(plastic::PlasticBxdf),
     Absorption(absorption::AbsorptionBxdf),
-    /// `multilayered` (boxed: it holds its interfaces inline).
-    Layered(Box<layered::LayeredBxdf>),
+    /// `multilayered` (its random walk is boxed, its closed form inline).
+    Layered(layered::LayeredBxdf),
     /// Absorbs everything (e.g. the back of a one-sided surface, or `null`).
     Black,
 }

@@ -37,9 +37,10 @@
 use crate::bsdf::fresnel::fresnel_dielectric;
 use crate::bsdf::{BsdfSample, BxdfFlags};
 use crate::math::{warp, Pcg32, Vec2, Vec3, INV_PI};
-use crate::optics::thinfilm::film_rt;
+use crate::optics::thinfilm::{film_r4, film_rt};
 use crate::spectrum::{SampledSpectrum, N};
 use num_complex::Complex64;
+use std::hash::{BuildHasherDefault, Hasher};
 use std::sync::OnceLock;
 
 /// The reflectance of the smooth coat: a bare dielectric, or a dielectric under a thin film.
@@ -82,31 +83,84 @@ impl CoatOptics {
             CoatOptics::Dielectric { eta } => {
                 SampledSpectrum::splat(fresnel_dielectric(if inside { -mu } else { mu }, eta))
             }
-            CoatOptics::Film {
-                eta,
-                film_ior,
-                thickness_nm,
-                lambda,
-            } => {
-                // Indices of the media before and after the film, as the light meets them.
-                let (n0, n2) = if inside {
-                    (eta as f64, 1.0)
-                } else {
-                    (1.0, eta as f64)
-                };
-                SampledSpectrum::from_fn(|i| {
-                    film_rt(
-                        mu as f64,
-                        n0,
-                        Complex64::new(film_ior[i] as f64, 0.0),
-                        thickness_nm as f64,
-                        Complex64::new(n2, 0.0),
-                        lambda[i] as f64,
-                    )
-                    .r() as f32
-                })
+            CoatOptics::Film { .. } => self.film_memo(mu, inside),
+        }
+    }
+
+    /// A film coat's reflectance, remembered: the BSDF asks for the coat at μo and μi in
+    /// `f`, again in `pdf` and in `sample_f`, so each thread keeps its last two answers with
+    /// the coat, cosine and side they were for, compared bit for bit (an answer is a pure
+    /// function of those, so a remembered one is the one [`CoatOptics::film`] would give).
+    fn film_memo(&self, mu: f32, inside: bool) -> SampledSpectrum {
+        type Remembered = ([u32; 4 + 2 * N], SampledSpectrum);
+        thread_local! {
+            static LAST: std::cell::Cell<[Option<Remembered>; 2]> =
+                const { std::cell::Cell::new([None; 2]) };
+        }
+        let key = self.film_key(mu, inside);
+        let last = LAST.get();
+        for (k, answer) in last.iter().flatten() {
+            if *k == key {
+                return *answer;
             }
         }
+        let answer = self.film(mu, inside);
+        LAST.set([Some((key, answer)), last[0]]);
+        answer
+    }
+
+    /// The bits a film coat's answer depends on: η, thickness, the side and cosine, and the
+    /// film index and wavelength of each lane.
+    fn film_key(&self, mu: f32, inside: bool) -> [u32; 4 + 2 * N] {
+        let CoatOptics::Film {
+            eta,
+            film_ior,
+            thickness_nm,
+            lambda,
+        } = *self
+        else {
+            unreachable!("called for film coats only")
+        };
+        let mut k = [0u32; 4 + 2 * N];
+        k[0] = eta.to_bits();
+        k[1] = thickness_nm.to_bits();
+        k[2] = mu.to_bits();
+        k[3] = inside as u32;
+        for i in 0..N {
+            k[4 + i] = film_ior[i].to_bits();
+            k[4 + N + i] = lambda[i].to_bits();
+        }
+        k
+    }
+
+    /// A film coat's reflectance at the four wavelengths in one pass of 4-lane arithmetic
+    /// ([`film_r4`]: the Airy sum of [`crate::optics::thinfilm::film_rt`] to a few ulp).
+    fn film(&self, mu: f32, inside: bool) -> SampledSpectrum {
+        let CoatOptics::Film {
+            eta,
+            film_ior,
+            thickness_nm,
+            lambda,
+        } = *self
+        else {
+            unreachable!("called for film coats only")
+        };
+        // Indices of the media before and after the film, as the light meets them.
+        let (n0, n2) = if inside {
+            (eta as f64, 1.0)
+        } else {
+            (1.0, eta as f64)
+        };
+        let lane = |a: [f32; N]| a.map(|x| x as f64);
+        let r = film_r4(
+            mu as f64,
+            [n0; N],
+            lane(film_ior),
+            thickness_nm as f64,
+            [n2; N],
+            lane(lambda),
+        );
+        SampledSpectrum(r.map(|x| x as f32))
     }
 }
 
@@ -208,6 +262,39 @@ pub(crate) fn film_integrals_1(
     (e, r, k)
 }
 
+/// The film-integral table's hasher: its keys are a few small integers made by the renderer,
+/// not by an adversary, so SipHash's protection is not needed, and its cost was a tenth of a
+/// thin-film render (16 lookups per shading point). Each word is folded in by a rotate, xor
+/// and odd multiply (the multiply spreads low bits upwards; `finish` mixes the high half
+/// back down, since the table takes its bucket from the low bits).
+#[derive(Default)]
+struct KeyHasher(u64);
+
+impl Hasher for KeyHasher {
+    #[inline]
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.write_u64(b as u64);
+        }
+    }
+    #[inline]
+    fn write_u32(&mut self, x: u32) {
+        self.write_u64(x as u64);
+    }
+    #[inline]
+    fn write_i32(&mut self, x: i32) {
+        self.write_u64(x as u32 as u64);
+    }
+    #[inline]
+    fn write_u64(&mut self, x: u64) {
+        self.0 = (self.0.rotate_left(26) ^ x).wrapping_mul(0x9e37_79b9_7f4a_7c15);
+    }
+    #[inline]
+    fn finish(&self) -> u64 {
+        self.0 ^ (self.0 >> 29)
+    }
+}
+
 /// Film-coat integrals at the path's wavelengths, interpolated bilinearly from a per-thread
 /// table on a 1 nm × 1 nm grid of (thickness, wavelength).
 ///
@@ -224,8 +311,9 @@ fn film_integrals_tabulated(
 ) -> (SampledSpectrum, SampledSpectrum, f32) {
     use std::collections::HashMap;
     type Key = (u32, i32, u32, i32, i32);
+    type Table = HashMap<Key, (f32, f32, f32), BuildHasherDefault<KeyHasher>>;
     thread_local! {
-        static TABLE: std::cell::RefCell<HashMap<Key, (f32, f32, f32)>> = std::cell::RefCell::new(HashMap::new());
+        static TABLE: std::cell::RefCell<Table> = std::cell::RefCell::new(Table::default());
     }
     let CoatOptics::Film {
         eta,

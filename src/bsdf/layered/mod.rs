@@ -232,12 +232,12 @@ fn phase_g(a: &mut Args, i: usize) -> Result<f32, SceneError> {
 }
 
 /// How a layered BSDF is evaluated: the closed form or the random walk.
-// One allocation per shading point either way: `Bxdf::Layered` boxes the whole struct.
-#[allow(clippy::large_enum_variant)]
 #[derive(Clone, Debug)]
 pub enum LayeredModel {
+    /// Inline (112 bytes): a thin-film coat makes one per shading point, without allocating.
     Closed(CoatedDiffuse),
-    Walk(Stack),
+    /// Boxed: the walk holds its interfaces inline (800 bytes).
+    Walk(Box<Stack>),
 }
 
 /// A layered BSDF and the seed of its random numbers.
@@ -302,17 +302,28 @@ impl LayeredBxdf {
         allow_closed: bool,
         seed: u64,
     ) -> Option<LayeredBxdf> {
-        let (ifs, n) = walk::inline_interfaces(interfaces)?;
-        if allow_closed && n == 2 && media.len() == 1 && !media[0].scatters() {
-            if let (Some(coat), Bxdf::Diffuse(base)) = (coat_optics(&ifs[0]), &ifs[1]) {
-                return Some(LayeredBxdf {
-                    model: LayeredModel::Closed(CoatedDiffuse::new(coat, base.r, media[0].sigma_t)),
-                    seed,
-                });
+        let mut it = interfaces.into_iter();
+        let (top, base) = (it.next(), it.next());
+        // The closed form is looked for before the interfaces are gathered for a walk: it
+        // needs only the first two, and a render with a film coat makes one per shading point.
+        let mut rest = it.peekable();
+        if allow_closed && rest.peek().is_none() && media.len() == 1 && !media[0].scatters() {
+            if let (Some(top), Some(Bxdf::Diffuse(base))) = (&top, &base) {
+                if let Some(coat) = coat_optics(top) {
+                    return Some(LayeredBxdf {
+                        model: LayeredModel::Closed(CoatedDiffuse::new(
+                            coat,
+                            base.r,
+                            media[0].sigma_t,
+                        )),
+                        seed,
+                    });
+                }
             }
         }
+        let (ifs, n) = walk::inline_interfaces(top.into_iter().chain(base).chain(rest))?;
         Stack::from_parts(ifs, n, media, max_depth).map(|s| LayeredBxdf {
-            model: LayeredModel::Walk(s),
+            model: LayeredModel::Walk(Box::new(s)),
             seed,
         })
     }

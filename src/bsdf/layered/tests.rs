@@ -156,10 +156,10 @@ fn film_top_matches_research_table() {
 }
 
 fn closed_bxdf(c: CoatedDiffuse) -> Bxdf {
-    Bxdf::Layered(Box::new(LayeredBxdf {
+    Bxdf::Layered(LayeredBxdf {
         model: LayeredModel::Closed(c),
         seed: 0,
-    }))
+    })
 }
 
 #[test]
@@ -261,5 +261,86 @@ fn film_table_interpolation_matches_direct_quadrature() {
             (got_r - r).abs() <= 1e-3 * r.max(1e-3),
             "R_r at {l}: {got_r} vs {r}"
         );
+    }
+}
+
+#[test]
+fn film_coat_memo_answers_each_coat_angle_and_side() {
+    // The film coat keeps its last two answers per thread. Interleave coats that differ in one
+    // value each and both sides (dropping η, the thickness or the side from the memo's key
+    // fails this): every answer must be the direct Airy sum
+    // of its own coat (film_rt per wavelength, to the few ulp of the 4-lane cosine).
+    use crate::optics::thinfilm::film_rt;
+    use num_complex::Complex64;
+    // η, the third film index, the thickness and the fourth wavelength.
+    let coat = |eta: f32, ior: f32, d: f32, l: f32| CoatOptics::Film {
+        eta,
+        film_ior: [1.56, 1.56, ior, 1.56],
+        thickness_nm: d,
+        lambda: [431.0, 517.0, 603.0, l],
+    };
+    let base = coat(1.5, 1.56, 500.0, 688.0);
+    // The base coat between variants that differ from it in one value each.
+    let coats = [
+        base,
+        coat(1.33, 1.56, 500.0, 688.0),
+        base,
+        coat(1.5, 1.8, 500.0, 688.0),
+        base,
+        coat(1.5, 1.56, 300.0, 688.0),
+        base,
+        coat(1.5, 1.56, 500.0, 700.0),
+        base,
+    ];
+    let direct = |c: &CoatOptics, mu: f32, inside: bool| -> [f64; 4] {
+        let CoatOptics::Film {
+            eta,
+            film_ior,
+            thickness_nm,
+            lambda,
+        } = *c
+        else {
+            unreachable!()
+        };
+        let (n0, n2) = if inside {
+            (eta as f64, 1.0)
+        } else {
+            (1.0, eta as f64)
+        };
+        std::array::from_fn(|i| {
+            let re = |x: f64| Complex64::new(x, 0.0);
+            film_rt(
+                mu as f64,
+                n0,
+                re(film_ior[i] as f64),
+                thickness_nm as f64,
+                re(n2),
+                lambda[i] as f64,
+            )
+            .r()
+        })
+    };
+    // Each coat after its neighbour at the same angle (so a key missing a field answers with
+    // the neighbour's value), the angle changing between passes over the coats, from outside
+    // and inside in turn, each asked twice (the second time a remembered answer).
+    for round in 0..2 {
+        for mu in [0.8f32, 0.31] {
+            for (k, c) in coats.iter().enumerate() {
+                for ask in 0..4 {
+                    let inside = ask % 2 == 1;
+                    let got = if inside { c.inside(mu) } else { c.outside(mu) };
+                    let want = direct(c, mu, inside);
+                    for i in 0..4 {
+                        assert!(
+                            (got[i] as f64 - want[i]).abs() <= 1e-6,
+                            "round {round}, ask {ask}, coat {k}, μ {mu}, inside {inside}, \
+                             lane {i}: {} vs {}",
+                            got[i],
+                            want[i]
+                        );
+                    }
+                }
+            }
+        }
     }
 }

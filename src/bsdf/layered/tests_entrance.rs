@@ -29,10 +29,10 @@ fn stack(alpha: f32, tau: f32, rho: f32) -> Stack {
 }
 
 fn layered(s: Stack) -> Bxdf {
-    Bxdf::Layered(Box::new(LayeredBxdf {
-        model: LayeredModel::Walk(s),
+    Bxdf::Layered(LayeredBxdf {
+        model: LayeredModel::Walk(Box::new(s)),
         seed: 3,
-    }))
+    })
 }
 
 /// Weighted histogram of f·|cos|/pdf over cos θi ∈ [−1, 1] (8 bins) from `n` samples.

@@ -18,7 +18,7 @@ fn walk(tau: f32, rho: f32) -> Bxdf {
     )
     .unwrap();
     assert!(matches!(l.model, LayeredModel::Walk(_)));
-    Bxdf::Layered(Box::new(l))
+    Bxdf::Layered(l)
 }
 
 /// GGX α = 0.3 coat over a scattering medium over a Lambertian base.
@@ -35,7 +35,7 @@ fn rough_scattering() -> Bxdf {
         g: 0.3,
     };
     let l = LayeredBxdf::new(vec![top, base(0.7)], &[m], DEFAULT_MAX_DEPTH, true, 0).unwrap();
-    Bxdf::Layered(Box::new(l))
+    Bxdf::Layered(l)
 }
 
 /// `f` of a stochastic BSDF with a fresh seed from `rng` (its value at a pair is a
@@ -108,10 +108,10 @@ fn walk_directions_follow_the_exact_pdf() {
     // White base, no absorption: weights are all 1, roulette never fires, so the walk's
     // directions must have exactly the closed form's density (research/layered.md §3.3).
     let w = walk(0.0, 1.0);
-    let c = Bxdf::Layered(Box::new(LayeredBxdf {
+    let c = Bxdf::Layered(LayeredBxdf {
         model: LayeredModel::Closed(closed(0.0, 1.0)),
         seed: 0,
-    }));
+    });
     for (i, theta) in [20.0f32, 70.0].into_iter().enumerate() {
         let cfg = Chi2Config {
             seed: 50 + i as u64,
