@@ -24,12 +24,15 @@ process from start to exit (bpy's import is about 1–3 s of it), "cpu" the proc
 CPU time, which a loaded machine disturbs less than wall-clock time. Both renderers run on the
 CPU with the same number of threads, interleaved, in the same run.
 
-ophis runs in several configurations (--ophis sampler:top,...), each timed against the same
-Cycles runs: its two samplers (`independent`; `stratified`, which like `ldsampler` and `sobol`
-is Owen-scrambled Sobol in ophis) and two coats: the scene's `roughthinfilm` (α = 0.05, the
-same material as Cycles', layered by a random walk) and the smooth `thinfilm` (α = 0: a
-slightly different material, for which the layered stack has a closed form). ophis's
-references are rendered with the Sobol sampler, one per coat.
+ophis runs in several configurations (--ophis sampler:top[:rough_coat],...), each timed
+against the same Cycles runs: its two samplers (`independent`; `stratified`, which like
+`ldsampler` and `sobol` is Owen-scrambled Sobol in ophis) and three coats: the scene's
+`roughthinfilm` (α = 0.05, the same material as Cycles') layered exactly by a random walk
+(`walk`) or in closed form by the plastic approximation (`plastic`: microfacet reflection plus
+a diffuse part through the smooth coat's transmittance, the kind of model Cycles' Principled
+BSDF is; `multilayered`'s `rough_coat`), and the smooth `thinfilm` (α = 0: a slightly different
+material, for which the layered stack has an exact closed form). ophis's references are
+rendered with the Sobol sampler, one per coat.
 
 How the two models differ (each is compared only with itself):
 - Cycles renders RGB; ophis renders four hero wavelengths per path (360–830 nm) and converts to
@@ -37,8 +40,10 @@ How the two models differ (each is compared only with itself):
 - Film: ophis evaluates the exact Airy reflectance per wavelength on every microfacet; Cycles'
   Principled thin film evaluates the interference in a spectrally integrated RGB form.
 - Layering: ophis's `multilayered` simulates the coat over the base by a random walk (all
-  inter-reflections, a stochastic BSDF value); Cycles' Principled BSDF mixes its specular and
-  diffuse lobes with albedo scaling. The converged images differ by ~10 % in the sphere's mean.
+  inter-reflections, a stochastic BSDF value) or, with `rough_coat` = `plastic`, sums a
+  microfacet lobe and a Fresnel-weighted diffuse lobe in closed form; Cycles' Principled BSDF
+  mixes its specular and diffuse lobes with albedo scaling. The converged images differ by ~10 %
+  in the sphere's mean.
 - Roughness: Cycles squares its Roughness input (α = r²), so Roughness = √0.05 ≈ 0.224 here;
   Cycles' distribution is set to GGX (its default, multiscatter GGX, adds energy ophis's
   single-scattering GGX lacks, negligible at α = 0.05).
@@ -50,7 +55,7 @@ How the two models differ (each is compared only with itself):
 
 usage: python3 bench/cycles_thinfilm.py [--res 96] [--ref-spp 4096] [--spp 4,8,...,256]
                                         [--repeats 2] [--threads 2] [--no-build]
-                                        [--ophis independent:roughthinfilm,...] [--no-cycles]
+                                        [--ophis stratified:roughthinfilm:plastic,...] [--no-cycles]
 Needs `pip install bpy` (Blender 5.0's Cycles) and numpy.
 """
 import argparse
@@ -178,9 +183,10 @@ def timed(cmd):
     return p.stdout + p.stderr, wall, cpu
 
 
-def run_ophis(spp, seed, out, a, sampler, top):
+def run_ophis(spp, seed, out, a, sampler, top, coat="walk"):
     exe = os.path.join(ROOT, "target", "release", "ophis")
     cmd = [exe, "render", SCENE, "-Dres=%d" % a.res, "-Dsampler=%s" % sampler, "-Dtop=%s" % top,
+           "-Drough_coat=%s" % coat,
            "--spp", str(spp), "--seed", str(seed), "--threads", str(a.threads), "-q", "-o", out]
     cmd += ["-D" + d for d in a.define]
     text, wall, cpu = timed(cmd)
@@ -251,9 +257,14 @@ def renderers(a):
     reference per coat (the sampler does not change the converged image)."""
     out = {}
     for c in a.ophis.split(","):
-        sampler, top = c.split(":")
-        out["ophis " + c] = ((lambda spp, seed, path, s=sampler, t=top:
-                              run_ophis(spp, seed, path, a, s, t)), "ophis-" + top)
+        parts = c.split(":")
+        if len(parts) not in (2, 3):
+            sys.exit("--ophis: %r is not sampler:top or sampler:top:rough_coat" % c)
+        sampler, top = parts[:2]
+        coat = parts[2] if len(parts) == 3 else "walk"
+        out["ophis " + c] = ((lambda spp, seed, path, s=sampler, t=top, k=coat:
+                              run_ophis(spp, seed, path, a, s, t, k)),
+                             "ophis-%s-%s" % (top, coat))
     if not a.no_cycles:
         out["cycles"] = ((lambda spp, seed, path: run_cycles(spp, seed, path, a)), "cycles")
     return out
@@ -268,10 +279,11 @@ def main():
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--eps", type=float, default=1e-2)
     ap.add_argument("--ophis", default="independent:roughthinfilm,stratified:roughthinfilm,"
-                    "stratified:thinfilm",
-                    help="ophis configurations, sampler:top, comma-separated (samplers: "
-                    "`independent`, or `stratified`/`ldsampler`/`sobol`, all Owen-scrambled "
-                    "Sobol; tops: `roughthinfilm`, the scene's, or the smooth `thinfilm`)")
+                    "stratified:roughthinfilm:plastic,stratified:thinfilm",
+                    help="ophis configurations, sampler:top[:rough_coat], comma-separated "
+                    "(samplers: `independent`, or `stratified`/`ldsampler`/`sobol`, all "
+                    "Owen-scrambled Sobol; tops: `roughthinfilm`, the scene's, or the smooth "
+                    "`thinfilm`; rough_coat: `walk`, the default, or `plastic`)")
     ap.add_argument("-D", dest="define", action="append", default=[],
                     help="extra scene parameter for ophis, name=value")
     ap.add_argument("--no-cycles", action="store_true", help="ophis only")
@@ -298,7 +310,8 @@ def main():
         path = os.path.join(OUT, "%s-ref.exr" % key)
         # ophis's references use the Sobol sampler, which converges fastest.
         if key.startswith("ophis-"):
-            secs, wall, cpu = run_ophis(a.ref_spp, 0, path, a, "stratified", key[6:])
+            _, top, coat = key.split("-")
+            secs, wall, cpu = run_ophis(a.ref_spp, 0, path, a, "stratified", top, coat)
         else:
             secs, wall, cpu = render(a.ref_spp, 0, path)
         refs[key] = load_exr(path)

@@ -34,7 +34,15 @@ fn main() {
     let media = [Medium::absorbing(s(1.4))];
     let build = |closed: bool| {
         Bxdf::Layered(
-            LayeredBxdf::new([coat(), base()], &media, DEFAULT_MAX_DEPTH, closed, 1).unwrap(),
+            LayeredBxdf::new(
+                [coat(), base()],
+                &media,
+                DEFAULT_MAX_DEPTH,
+                closed,
+                false,
+                1,
+            )
+            .unwrap(),
         )
     };
     let film = CoatOptics::Film {

@@ -164,6 +164,8 @@ pub enum Material {
         media: Vec<LayerMedium>,
         max_depth: u32,
         closed_form: bool,
+        /// `rough_coat` = `plastic`: a rough coat over a diffuse base in closed form.
+        rough_plastic: bool,
     },
     /// `absorption` (see [`super::absorption`]).
     Absorption {
@@ -240,6 +242,7 @@ impl Material {
                 media,
                 max_depth,
                 closed_form,
+                rough_plastic,
             } => {
                 let ifs = surfaces
                     .iter()
@@ -255,7 +258,7 @@ impl Material {
                         None => Medium::absorbing(SampledSpectrum::ZERO),
                     });
                 let med = &med[..media.len().min(MAX_INTERFACES - 1)];
-                match LayeredBxdf::new(ifs, med, *max_depth, *closed_form, seed) {
+                match LayeredBxdf::new(ifs, med, *max_depth, *closed_form, *rough_plastic, seed) {
                     Some(l) => Bxdf::Layered(l),
                     None => Bxdf::Black,
                 }

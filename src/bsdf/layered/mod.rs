@@ -2,7 +2,11 @@
 //! between them, simulated by position-free Monte Carlo (Guo, Hašan, Zhao 2018, "Position-Free
 //! Monte Carlo Simulation for Arbitrary Layered BSDFs", TOG 37(6)); see [`walk`]. A smooth
 //! dielectric coat over a non-scattering medium over a Lambertian base is evaluated in closed
-//! form instead (see [`closed_form`]) unless `closed_form` is false.
+//! form instead (see [`closed_form`]) unless `closed_form` is false. With `rough_coat` =
+//! `plastic`, a rough coat over the same base is too, approximately
+//! ([`closed_form::CoatedDiffuse::with_rough`]): against the walk (`tests_rough.rs`), a film
+//! coat with GGX α = 0.05 over a dark or grey base is within 0.5 % in directional albedo and
+//! 1.6 % in the diffuse value; a bare coat with α = 0.3 over a grey base is 8–12 % brighter.
 //!
 //! ## Parameters
 //!
@@ -14,6 +18,7 @@
 //! | `albedo_i` | spectrum or texture | 0.0 | — | single-scattering albedo of medium i |
 //! | `phase_i` | float | 0.0 | — | Henyey–Greenstein g of medium i, or a nested `phase` (`hg`, `isotropic`); strictly between -1 and 1 |
 //! | `closed_form` | boolean | true | — | use the closed form when the stack allows it |
+//! | `rough_coat` | string | `walk` | — | a rough coat over a diffuse base: 'walk' simulates it (exact); 'plastic' evaluates it in closed form as `roughplastic` does (microfacet reflection, smooth-coat transmittance), without the walk's noise; one of 'walk', 'plastic' |
 //! | `max_depth` (0.6: `maxDepth`) | integer | -1 | — | safety bound on walk vertices (−1: 256); Russian roulette ends walks |
 //! | `pdf` | string | — | — |  |
 //! | `diffuse_pdf` (0.6: `diffusePdf`) | float | — | — |  |
@@ -49,10 +54,14 @@ mod tests;
 #[cfg(test)]
 mod tests_entrance;
 #[cfg(test)]
+mod tests_rough;
+#[cfg(test)]
 mod tests_walk;
 pub mod walk;
 
 use super::{BsdfSample, Bxdf, BxdfFlags, TransportMode};
+use crate::bsdf::filmfresnel::{FilmFresnel, FilmMode};
+use crate::bsdf::microfacet::MicrofacetDistribution;
 use crate::math::rng::mix64;
 use crate::math::{warp, Pcg32, Vec2, Vec3, INV_PI};
 use closed_form::{CoatOptics, CoatedDiffuse};
@@ -101,6 +110,14 @@ declare!(PLUGIN: Material = Bsdf "multilayered" []
                     ),
                 Param::bool("closed_form", true)
                     .doc("use the closed form when the stack allows it"),
+                Param::string("rough_coat", "walk")
+                    .check(Check::OneOf(&["walk", "plastic"]))
+                    .doc(
+                        "a rough coat over a diffuse base: 'walk' simulates it (exact); \
+                         'plastic' evaluates it in closed form as `roughplastic` does \
+                         (microfacet reflection, smooth-coat transmittance), without the \
+                         walk's noise",
+                    ),
                 Param::int("max_depth", -1)
                     .v06("maxDepth")
                     .doc("safety bound on walk vertices (−1: 256); Russian roulette ends walks"),
@@ -183,6 +200,7 @@ fn load(a: &mut Args, _: ()) -> Result<Material, SceneError> {
         max_depth.min(1 << 20) as u32
     };
     let closed_form = a.bool("closed_form")?;
+    let rough_plastic = a.string("rough_coat")? == "plastic";
     for name in IGNORED {
         a.ignore(name)?;
     }
@@ -191,6 +209,7 @@ fn load(a: &mut Args, _: ()) -> Result<Material, SceneError> {
         media,
         max_depth,
         closed_form,
+        rough_plastic,
     })
 }
 
@@ -257,49 +276,63 @@ fn query_rng(seed: u64, a: Vec3, b: Vec3, c: f32) -> Pcg32 {
 }
 
 /// The coat optics of an interface the closed form can handle (a smooth dielectric with unit
-/// factors; thin-film coats plug in here).
-pub(crate) fn coat_optics(b: &Bxdf) -> Option<CoatOptics> {
-    use crate::bsdf::filmfresnel::FilmMode;
+/// factors, or a smooth spectral film on one), with the microfacets of a rough one (the same
+/// interfaces, rough) when `rough` allows them.
+pub(crate) fn coat_optics(
+    b: &Bxdf,
+    rough: bool,
+) -> Option<(CoatOptics, Option<MicrofacetDistribution>)> {
+    let unit = |r: SampledSpectrum, t: SampledSpectrum| {
+        r == SampledSpectrum::ONE && t == SampledSpectrum::ONE
+    };
     match b {
-        Bxdf::Dielectric(d) if d.r_s == SampledSpectrum::ONE && d.t_s == SampledSpectrum::ONE => {
-            Some(CoatOptics::Dielectric { eta: d.fresnel.eta })
+        Bxdf::Dielectric(d) if unit(d.r_s, d.t_s) => {
+            Some((CoatOptics::Dielectric { eta: d.fresnel.eta }, None))
         }
-        // A smooth film on a dielectric coat, computed exactly (the thesis mode and absorbing
-        // bases have no closed form here and take the random walk).
-        Bxdf::ThinFilm(t)
-            if t.r_s == SampledSpectrum::ONE
-                && t.t_s == SampledSpectrum::ONE
-                && t.fresnel.mode == FilmMode::Spectral
-                && t.fresnel.spectral.base_k.iter().all(|&k| k == 0.0)
-                && t.fresnel
-                    .spectral
-                    .base_n
-                    .iter()
-                    .all(|&n| n == t.fresnel.spectral.base_n[0]) =>
-        {
-            // Indices relative to the outer medium; the vacuum wavelength shrinks with it so
-            // that the film's phase 2π n1 d cos θ1 / λ is unchanged.
-            let ext = t.fresnel.ext;
-            let s = &t.fresnel.spectral;
-            Some(CoatOptics::Film {
-                eta: s.base_n[0] / ext,
-                film_ior: s.film.map(|f| f / ext),
-                thickness_nm: t.fresnel.d_nm,
-                lambda: s.lambda.map(|l| l / ext),
-            })
+        Bxdf::ThinFilm(t) if unit(t.r_s, t.t_s) => Some((film_coat(&t.fresnel)?, None)),
+        Bxdf::RoughDielectric(d) if rough && unit(d.r_s, d.t_s) => Some((
+            CoatOptics::Dielectric { eta: d.fresnel.eta },
+            Some(d.distrib),
+        )),
+        Bxdf::RoughThinFilm(t) if rough && unit(t.r_s, t.t_s) => {
+            Some((film_coat(&t.fresnel)?, Some(t.distrib)))
         }
         _ => None,
     }
 }
 
+/// A film on a dielectric coat, computed exactly (the thesis mode and absorbing or dispersive
+/// bases have no closed form here and take the random walk).
+fn film_coat(f: &FilmFresnel) -> Option<CoatOptics> {
+    let s = &f.spectral;
+    if f.mode != FilmMode::Spectral
+        || s.base_k.iter().any(|&k| k != 0.0)
+        || s.base_n.iter().any(|&n| n != s.base_n[0])
+    {
+        return None;
+    }
+    // Indices relative to the outer medium; the vacuum wavelength shrinks with it so that the
+    // film's phase 2π n1 d cos θ1 / λ is unchanged.
+    let ext = f.ext;
+    Some(CoatOptics::Film {
+        eta: s.base_n[0] / ext,
+        film_ior: s.film.map(|x| x / ext),
+        thickness_nm: f.d_nm,
+        lambda: s.lambda.map(|l| l / ext),
+    })
+}
+
 impl LayeredBxdf {
     /// The stack, in closed form when `allow_closed` and the stack is a smooth coat over a
-    /// non-scattering medium over a Lambertian base; `None` for a wrong number of layers.
+    /// non-scattering medium over a Lambertian base (or a rough coat, when `rough_plastic`
+    /// allows the approximation of [`CoatedDiffuse::with_rough`]); `None` for a wrong number of
+    /// layers.
     pub fn new(
         interfaces: impl IntoIterator<Item = Bxdf>,
         media: &[Medium],
         max_depth: u32,
         allow_closed: bool,
+        rough_plastic: bool,
         seed: u64,
     ) -> Option<LayeredBxdf> {
         let mut it = interfaces.into_iter();
@@ -309,13 +342,13 @@ impl LayeredBxdf {
         let mut rest = it.peekable();
         if allow_closed && rest.peek().is_none() && media.len() == 1 && !media[0].scatters() {
             if let (Some(top), Some(Bxdf::Diffuse(base))) = (&top, &base) {
-                if let Some(coat) = coat_optics(top) {
+                if let Some((coat, rough)) = coat_optics(top, rough_plastic) {
+                    let c = CoatedDiffuse::new(coat, base.r, media[0].sigma_t);
                     return Some(LayeredBxdf {
-                        model: LayeredModel::Closed(CoatedDiffuse::new(
-                            coat,
-                            base.r,
-                            media[0].sigma_t,
-                        )),
+                        model: LayeredModel::Closed(match rough {
+                            Some(d) => c.with_rough(d),
+                            None => c,
+                        }),
                         seed,
                     });
                 }

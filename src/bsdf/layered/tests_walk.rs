@@ -14,6 +14,7 @@ fn walk(tau: f32, rho: f32) -> Bxdf {
         &[Medium::absorbing(splat(tau))],
         DEFAULT_MAX_DEPTH,
         false,
+        false,
         0,
     )
     .unwrap();
@@ -34,7 +35,15 @@ fn rough_scattering() -> Bxdf {
         albedo: splat(0.8),
         g: 0.3,
     };
-    let l = LayeredBxdf::new(vec![top, base(0.7)], &[m], DEFAULT_MAX_DEPTH, true, 0).unwrap();
+    let l = LayeredBxdf::new(
+        vec![top, base(0.7)],
+        &[m],
+        DEFAULT_MAX_DEPTH,
+        true,
+        false,
+        0,
+    )
+    .unwrap();
     Bxdf::Layered(l)
 }
 
