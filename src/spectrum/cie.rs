@@ -82,6 +82,15 @@ fn mul(m: &[[f32; 3]; 3], v: [f32; 3]) -> [f32; 3] {
     std::array::from_fn(|r| m[r][0] * v[0] + m[r][1] * v[1] + m[r][2] * v[2])
 }
 
+/// The linear-sRGB colour-matching functions r̄, ḡ, b̄ (XYZ_TO_SRGB applied to x̄, ȳ, z̄) at
+/// table node `k`, i.e. at 360 + k nm (k ≤ 470).
+pub(crate) fn srgb_bar_node(k: usize) -> [f32; 3] {
+    mul(&XYZ_TO_SRGB, [CIE_X[k], CIE_Y[k], CIE_Z[k]])
+}
+
+/// Number of nodes of the 1 nm tables (360–830 nm).
+pub(crate) const NODES: usize = 471;
+
 /// XYZ → linear sRGB (D65 white).
 pub fn xyz_to_linear_srgb(xyz: [f32; 3]) -> [f32; 3] {
     mul(&XYZ_TO_SRGB, xyz)

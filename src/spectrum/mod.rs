@@ -1,8 +1,10 @@
 //! Spectral quantities: four hero wavelengths per path (Wilkie et al. 2014, "Hero Wavelength
-//! Spectral Sampling"), sampled with pbrt-v4's visible-importance density over 360–830 nm.
+//! Spectral Sampling"), sampled over 360–830 nm by the density of the linear-sRGB
+//! colour-matching functions ([`response`]).
 
 pub mod cie;
 pub mod ior;
+pub mod response;
 pub mod rgb2spec;
 pub mod spectra;
 
@@ -172,37 +174,33 @@ pub struct SampledWavelengths {
 }
 
 impl SampledWavelengths {
-    /// Hero-wavelength sampling by visible importance: the hero is drawn from `u`, the others
-    /// from `u + i/N` (mod 1), all through the same inverse CDF so each has the same density.
+    /// Hero-wavelength sampling by the sRGB response ([`response`]): the hero is drawn from
+    /// `u`, the others from `u + i/N` (mod 1), all through the same inverse CDF so each has the
+    /// same density.
     pub fn sample_visible(u: f32) -> SampledWavelengths {
-        let (lambda, pdf) = Self::sample_visible_lanes(u);
+        let mut lambda = [0.0; N];
+        let mut pdf = [0.0; N];
+        for i in 0..N {
+            let up = u + i as f32 / N as f32;
+            let up = if up >= 1.0 { up - 1.0 } else { up };
+            (lambda[i], pdf[i]) = response::sample_response_wavelength(up);
+        }
         SampledWavelengths { lambda, pdf }
     }
 
-    /// [`SampledWavelengths::sample_visible`] on lanes: (wavelengths, densities).
+    /// [`SampledWavelengths::sample_visible`] on lanes (lane by lane, so the bits are the
+    /// scalar ones): (wavelengths, densities).
     #[inline(always)]
     pub fn sample_visible_lanes<F: crate::simd::Float>(u: F) -> ([F; N], [F; N]) {
-        use crate::simd::Mask;
-        let mut lambda = [u; N];
-        let mut pdf = [u; N];
-        for i in 0..N {
-            let up = u + F::splat(i as f32 / N as f32);
-            let up = F::select(up.ge(F::splat(1.0)), up - F::splat(1.0), up);
-            let (l, p) = sample_visible_wavelength_lanes(up);
-            let outside = !(l.ge(F::splat(LAMBDA_MIN)) & l.le(F::splat(LAMBDA_MAX)));
-            (lambda[i], pdf[i]) = (l, p);
-            if outside.any() {
-                // Rounding put a wavelength past an end: clamp it there, lane by lane.
-                let mut la = [0.0f32; 16];
-                let mut pa = [0.0f32; 16];
-                for j in 0..F::LANES {
-                    (la[j], pa[j]) = sample_visible_wavelength_pdf(up.lane(j));
-                }
-                lambda[i] = F::select(outside, F::load(&la), l);
-                pdf[i] = F::select(outside, F::load(&pa), p);
+        let mut la = [[0.0f32; 16]; N];
+        let mut pa = [[0.0f32; 16]; N];
+        for j in 0..F::LANES {
+            let wl = Self::sample_visible(u.lane(j));
+            for i in 0..N {
+                (la[i][j], pa[i][j]) = (wl.lambda[i], wl.pdf[i]);
             }
         }
-        (lambda, pdf)
+        (la.map(|a| F::load(&a)), pa.map(|a| F::load(&a)))
     }
 
     /// Evenly spaced wavelengths with uniform density, starting at `u` within the first bin.
@@ -227,94 +225,5 @@ impl SampledWavelengths {
     #[inline]
     pub fn hero(&self) -> f32 {
         self.lambda[0]
-    }
-}
-
-// pbrt-v4's visible-wavelength density: p(λ) ∝ sech²(0.0072 (λ − 538)) on 360–830 nm.
-const VIS_A: f32 = 0.0072;
-const VIS_C: f32 = 538.0;
-
-/// Density of [`sample_visible_wavelength`] (1/nm), 0 outside 360–830 nm.
-pub fn visible_wavelength_pdf(lambda: f32) -> f32 {
-    if !(LAMBDA_MIN..=LAMBDA_MAX).contains(&lambda) {
-        return 0.0;
-    }
-    let norm = (VIS_A * (LAMBDA_MAX - VIS_C)).tanh() - (VIS_A * (LAMBDA_MIN - VIS_C)).tanh();
-    VIS_A / norm / (VIS_A * (lambda - VIS_C)).cosh().powi(2)
-}
-
-/// Inverse CDF of the visible-wavelength density.
-pub fn sample_visible_wavelength(u: f32) -> f32 {
-    sample_visible_wavelength_pdf(u).0
-}
-
-/// Inverse CDF of the visible-wavelength density, with the density at the sample.
-///
-/// With t = tanh(a (λ − c)) uniform between its values at the ends, λ = c + atanh(t)/a and the
-/// density is a (1 − t²)/(t1 − t0): no hyperbolic function needs evaluating besides atanh.
-#[inline]
-pub fn sample_visible_wavelength_pdf(u: f32) -> (f32, f32) {
-    let (l, pdf) = sample_visible_wavelength_lanes(u);
-    if !(LAMBDA_MIN..=LAMBDA_MAX).contains(&l) {
-        let l = l.clamp(LAMBDA_MIN, LAMBDA_MAX);
-        return (l, visible_wavelength_pdf(l));
-    }
-    (l, pdf)
-}
-
-// tanh(0.0072 (360 − 538)) and tanh(0.0072 (830 − 538)), precomputed in f64.
-const T0: f32 = -0.856_910_6;
-const T1: f32 = 0.970_591_35;
-
-/// [`sample_visible_wavelength_pdf`] on lanes, without the clamp of the rare results that
-/// rounding puts outside 360–830 nm (the caller checks them).
-#[inline(always)]
-pub fn sample_visible_wavelength_lanes<F: crate::simd::Float>(u: F) -> (F, F) {
-    let one = F::splat(1.0);
-    let t = F::splat(T0) + u * F::splat(T1 - T0);
-    let l = F::splat(VIS_C)
-        + F::splat(0.5) * crate::simd::fastmath::ln((one + t) / (one - t)) / F::splat(VIS_A);
-    (l, F::splat(VIS_A) * (one - t * t) / F::splat(T1 - T0))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    const ONE_BELOW: f32 = crate::math::ONE_MINUS_EPSILON;
-
-    #[test]
-    fn fast_sampling_matches_the_density() {
-        // The endpoints map to 360 and 830 nm (checks the precomputed tanh constants), and the
-        // density from t equals the sech² formula.
-        assert!((sample_visible_wavelength_pdf(0.0).0 - LAMBDA_MIN).abs() < 0.05);
-        assert!((sample_visible_wavelength_pdf(ONE_BELOW).0 - LAMBDA_MAX).abs() < 0.05);
-        for &u in &[0.01f32, 0.3, 0.7, 0.99] {
-            let (l, p) = sample_visible_wavelength_pdf(u);
-            assert!(
-                (p - visible_wavelength_pdf(l)).abs() < 1e-4 * p,
-                "{u}: {p} vs {}",
-                visible_wavelength_pdf(l)
-            );
-        }
-    }
-
-    #[test]
-    fn visible_pdf_integrates_to_one_and_inverts() {
-        let n = 47_000;
-        let h = (LAMBDA_MAX - LAMBDA_MIN) / n as f32;
-        let s: f32 = (0..n)
-            .map(|i| visible_wavelength_pdf(LAMBDA_MIN + (i as f32 + 0.5) * h) * h)
-            .sum();
-        assert!((s - 1.0).abs() < 1e-3, "{s}");
-        // CDF(sample(u)) = u, checked by integrating the pdf up to the sample.
-        for &u in &[0.1f32, 0.5, 0.9] {
-            let l = sample_visible_wavelength(u);
-            let m = 20_000;
-            let hh = (l - LAMBDA_MIN) / m as f32;
-            let c: f32 = (0..m)
-                .map(|i| visible_wavelength_pdf(LAMBDA_MIN + (i as f32 + 0.5) * hh) * hh)
-                .sum();
-            assert!((c - u).abs() < 1e-3, "u {u} cdf {c}");
-        }
     }
 }
