@@ -178,13 +178,7 @@ impl SampledWavelengths {
     /// `u`, the others from `u + i/N` (mod 1), all through the same inverse CDF so each has the
     /// same density.
     pub fn sample_visible(u: f32) -> SampledWavelengths {
-        let mut lambda = [0.0; N];
-        let mut pdf = [0.0; N];
-        for i in 0..N {
-            let up = u + i as f32 / N as f32;
-            let up = if up >= 1.0 { up - 1.0 } else { up };
-            (lambda[i], pdf[i]) = response::sample_response_wavelength(up);
-        }
+        let (lambda, pdf) = response::sample_hero(u);
         SampledWavelengths { lambda, pdf }
     }
 

@@ -75,7 +75,26 @@ fn table() -> &'static Table {
 /// A wavelength (nm) for `u` in [0, 1) and its density (1/nm).
 #[inline]
 pub fn sample_response_wavelength(u: f32) -> (f32, f32) {
+    sample_in(table(), u)
+}
+
+/// The hero wavelengths for `u`: the i-th from `u + i/N` (mod 1), with their densities (the
+/// table fetched once for all of them).
+#[inline]
+pub(crate) fn sample_hero(u: f32) -> ([f32; super::N], [f32; super::N]) {
     let t = table();
+    let mut lambda = [0.0; super::N];
+    let mut pdf = [0.0; super::N];
+    for i in 0..super::N {
+        let up = u + i as f32 / super::N as f32;
+        let up = if up >= 1.0 { up - 1.0 } else { up };
+        (lambda[i], pdf[i]) = sample_in(t, up);
+    }
+    (lambda, pdf)
+}
+
+#[inline(always)]
+fn sample_in(t: &Table, u: f32) -> (f32, f32) {
     let u = u.clamp(0.0, super::super::math::ONE_MINUS_EPSILON);
     let mut k = t.guide[((u * GUIDE as f32) as usize).min(GUIDE - 1)] as usize;
     while k + 1 < BINS && t.cdf[k + 1] <= u {

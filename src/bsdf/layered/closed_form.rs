@@ -320,8 +320,12 @@ fn film_integrals_tabulated(
     tau: SampledSpectrum,
 ) -> (SampledSpectrum, SampledSpectrum, f32) {
     use std::collections::HashMap;
-    type Key = (u32, i32, u32, i32, i32);
-    type Table = HashMap<Key, (f32, f32, f32), BuildHasherDefault<KeyHasher>>;
+    /// (η bits, film index × 1e4, τ × 1e3, thickness nm): one row of the table.
+    type Key = (u32, i32, u32, i32);
+    /// E, R_r, K at every integer wavelength 0 … ROW − 1 nm (NaN: not computed yet).
+    type Row = [[f32; 3]; ROW];
+    const ROW: usize = 1024;
+    type Table = HashMap<Key, Box<Row>, BuildHasherDefault<KeyHasher>>;
     thread_local! {
         static TABLE: std::cell::RefCell<Table> = std::cell::RefCell::new(Table::default());
     }
@@ -334,58 +338,73 @@ fn film_integrals_tabulated(
     else {
         unreachable!("called for film coats only")
     };
-    let mut escape = SampledSpectrum::ZERO;
-    let mut ret = SampledSpectrum::ZERO;
-    let mut k_sum = 0.0f32;
+    let d = thickness_nm.max(0.0);
+    let (d0, fd) = (d.floor(), d - d.floor());
+    // Per wavelength: the row key's film index and τ, the grid wavelength and the weights.
+    let film_q: [i32; N] = std::array::from_fn(|i| (film_ior[i] * 1e4).round() as i32);
+    // τ usually varies with λ (an RGB σ is uplifted to a smooth spectrum), so it is rounded
+    // to 1e-3 for the key, or the table would never hit.
+    let tau_q: [u32; N] = std::array::from_fn(|i| (tau[i].max(0.0) * 1e3).round() as u32);
+    let value = |dd: f32, i: usize, l: i32| {
+        let (e, r, k) = film_integrals_1(
+            eta as f64,
+            film_q[i] as f64 * 1e-4,
+            (d0 + dd) as f64,
+            l as f64,
+            tau_q[i] as f64 * 1e-3,
+        );
+        [e as f32, r as f32, k as f32]
+    };
+    let mut acc = [[0.0f32; 3]; N];
     TABLE.with(|t| {
         let mut t = t.borrow_mut();
-        // Bound the memory a long, varied render can take (~40 bytes an entry).
-        if t.len() > 2_000_000 {
+        // Bound the memory a long, varied render can take (12 KiB a row).
+        if t.len() > 1024 {
             t.clear();
         }
-        let d = thickness_nm.max(0.0);
-        let (d0, fd) = (d.floor(), d - d.floor());
-        for i in 0..N {
-            let film_q = (film_ior[i] * 1e4).round() as i32;
-            // τ usually varies with λ (an RGB σ is uplifted to a smooth spectrum), so it is
-            // rounded to 1e-3 for the key, or the table would never hit.
-            let tau_q = (tau[i].max(0.0) * 1e3).round() as u32;
-            let l = lambda[i];
-            let (l0, fl) = (l.floor(), l - l.floor());
-            let mut acc = [0.0f32; 3];
-            for (dd, wd) in [(0.0, 1.0 - fd), (1.0, fd)] {
+        for (dd, wd) in [(0.0, 1.0 - fd), (1.0, fd)] {
+            // The wavelengths usually share one row (one film index and τ): look it up once.
+            let mut cur: Option<(Key, &mut Box<Row>)> = None;
+            for i in 0..N {
+                let l = lambda[i];
+                let (l0, fl) = (l.floor(), l - l.floor());
+                let key = (eta.to_bits(), film_q[i], tau_q[i], (d0 + dd) as i32);
+                if cur.as_ref().is_none_or(|c| c.0 != key) {
+                    let row = t
+                        .entry(key)
+                        .or_insert_with(|| Box::new([[f32::NAN; 3]; ROW]));
+                    cur = Some((key, row));
+                }
+                let row = &mut cur.as_mut().expect("looked up above").1;
                 for (dl, wl) in [(0.0, 1.0 - fl), (1.0, fl)] {
                     let w = wd * wl;
                     if w == 0.0 {
                         continue;
                     }
-                    let key = (
-                        eta.to_bits(),
-                        film_q,
-                        tau_q,
-                        (d0 + dd) as i32,
-                        (l0 + dl) as i32,
-                    );
-                    let v = *t.entry(key).or_insert_with(|| {
-                        let (e, r, k) = film_integrals_1(
-                            eta as f64,
-                            film_q as f64 * 1e-4,
-                            (d0 + dd) as f64,
-                            (l0 + dl) as f64,
-                            tau_q as f64 * 1e-3,
-                        );
-                        (e as f32, r as f32, k as f32)
-                    });
-                    acc[0] += w * v.0;
-                    acc[1] += w * v.1;
-                    acc[2] += w * v.2;
+                    let li = (l0 + dl) as i32;
+                    let v = match usize::try_from(li).ok().filter(|&j| j < ROW) {
+                        Some(j) => {
+                            if row[j][0].is_nan() {
+                                row[j] = value(dd, i, li);
+                            }
+                            row[j]
+                        }
+                        // Outside the row (an exterior index far from 1): not remembered.
+                        None => value(dd, i, li),
+                    };
+                    for c in 0..3 {
+                        acc[i][c] += w * v[c];
+                    }
                 }
             }
-            escape[i] = acc[0];
-            ret[i] = acc[1];
-            k_sum += acc[2];
         }
     });
+    let escape = SampledSpectrum(std::array::from_fn(|i| acc[i][0]));
+    let ret = SampledSpectrum(std::array::from_fn(|i| acc[i][1]));
+    let mut k_sum = 0.0f32;
+    for a in &acc {
+        k_sum += a[2];
+    }
     (escape, ret, k_sum / N as f32)
 }
 
