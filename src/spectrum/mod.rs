@@ -182,19 +182,18 @@ impl SampledWavelengths {
         SampledWavelengths { lambda, pdf }
     }
 
-    /// [`SampledWavelengths::sample_visible`] on lanes (lane by lane, so the bits are the
-    /// scalar ones): (wavelengths, densities).
+    /// [`SampledWavelengths::sample_visible`] on lanes (the same operations, so the same
+    /// bits): (wavelengths, densities).
     #[inline(always)]
     pub fn sample_visible_lanes<F: crate::simd::Float>(u: F) -> ([F; N], [F; N]) {
-        let mut la = [[0.0f32; 16]; N];
-        let mut pa = [[0.0f32; 16]; N];
-        for j in 0..F::LANES {
-            let wl = Self::sample_visible(u.lane(j));
-            for i in 0..N {
-                (la[i][j], pa[i][j]) = (wl.lambda[i], wl.pdf[i]);
-            }
+        let mut lambda = [u; N];
+        let mut pdf = [u; N];
+        for i in 0..N {
+            let up = u + F::splat(i as f32 / N as f32);
+            let up = F::select(up.ge(F::splat(1.0)), up - F::splat(1.0), up);
+            (lambda[i], pdf[i]) = response::sample_lanes(up);
         }
-        (la.map(|a| F::load(&a)), pa.map(|a| F::load(&a)))
+        (lambda, pdf)
     }
 
     /// Evenly spaced wavelengths with uniform density, starting at `u` within the first bin.
