@@ -7,8 +7,9 @@
 //! channel's curve. pbrt-v4's visible density (sech², centred on 538 nm; ophis's until
 //! 2026-12) follows ȳ and leaves the blue channel, whose z̄ peaks at 445 nm, undersampled:
 //! for a D65-white sky seen directly through four hero wavelengths the per-sample relative
-//! variance is 0.017 / 0.0009 / 0.33 in R / G / B (measured in ophis and by simulation);
-//! with this density it is 0.055 / 0.024 / 0.027, a third of the sum. Among the densities
+//! variance is 0.017 / 0.0009 / 0.33 in R / G / B (by simulation; ophis measured 0.023 / 0.0009 /
+//! 0.33); with this density it is 0.055 / 0.024 / 0.027 (ophis: 0.060 / 0.027 / 0.020), a third
+//! of the sum. Among the densities
 //! tried in that simulation (x̄ + ȳ + z̄, D65-weighted versions, √(r̄² + ḡ² + b̄²),
 //! max(|r̄|, |ḡ|, |b̄|)) this one gave the lowest total, with one and with several samples per
 //! pixel. The idea of sampling by the colour-matching functions rather than by luminance is
@@ -16,7 +17,8 @@
 //! (JWSCG 17).
 //!
 //! Every rendered channel stays unbiased: the density is positive over all of 360–830 nm
-//! (|r̄| + |ḡ| + |b̄| ≥ ‖XYZ_TO_SRGB⁻¹‖⁻¹ (x̄ + ȳ + z̄) > 0 on the table), so x̄/p, ȳ/p,
+//! (|r̄| + |ḡ| + |b̄| ≥ (x̄ + ȳ + z̄) / ‖XYZ_TO_SRGB⁻¹‖₁ > 0 on the table, ‖·‖₁ the largest
+//! column sum), so x̄/p, ȳ/p,
 //! z̄/p stay bounded.
 //!
 //! Sampling inverts the tabulated CDF exactly: a branch-free binary search (nine halving steps
@@ -24,7 +26,7 @@
 //! and within it the wavelength is linear in u. (Equally likely cells read without a search
 //! were tried: their density jumps at 4096 cell edges instead of 470 bin edges, and at
 //! hundreds of samples per pixel that broke the Sobol sampler's convergence in the red channel,
-//! the relative variance of a white sky 13× worse at 256 spp.)
+//! the relative variance of a white sky's red channel 13× worse at 256 spp.)
 
 use super::cie::{srgb_bar_node, NODES};
 use super::{LAMBDA_MAX, LAMBDA_MIN};
