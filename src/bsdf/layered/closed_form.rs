@@ -119,18 +119,23 @@ impl CoatOptics {
         answer
     }
 
+    /// A film coat's η, film indices, thickness and wavelengths.
+    fn film_parts(&self) -> (f32, [f32; N], f32, [f32; N]) {
+        match *self {
+            CoatOptics::Film {
+                eta,
+                film_ior,
+                thickness_nm,
+                lambda,
+            } => (eta, film_ior, thickness_nm, lambda),
+            CoatOptics::Dielectric { .. } => unreachable!("called for film coats only"),
+        }
+    }
+
     /// The bits a film coat's answer depends on: η, thickness, the side and cosine, and the
     /// film index and wavelength of each lane.
     fn film_key(&self, mu: f32, inside: bool) -> [u32; 4 + 2 * N] {
-        let CoatOptics::Film {
-            eta,
-            film_ior,
-            thickness_nm,
-            lambda,
-        } = *self
-        else {
-            unreachable!("called for film coats only")
-        };
+        let (eta, film_ior, thickness_nm, lambda) = self.film_parts();
         let mut k = [0u32; 4 + 2 * N];
         k[0] = eta.to_bits();
         k[1] = thickness_nm.to_bits();
@@ -146,15 +151,7 @@ impl CoatOptics {
     /// A film coat's reflectance at the four wavelengths in one pass of 4-lane arithmetic
     /// ([`film_r4`]: the Airy sum of [`crate::optics::thinfilm::film_rt`] to a few ulp).
     fn film(&self, mu: f32, inside: bool) -> SampledSpectrum {
-        let CoatOptics::Film {
-            eta,
-            film_ior,
-            thickness_nm,
-            lambda,
-        } = *self
-        else {
-            unreachable!("called for film coats only")
-        };
+        let (eta, film_ior, thickness_nm, lambda) = self.film_parts();
         // Indices of the media before and after the film, as the light meets them.
         let (n0, n2) = if inside {
             (eta as f64, 1.0)
