@@ -45,7 +45,8 @@
 //!   (one per path vertex, from the integrator) and of the directions it is asked about, so `f`
 //!   and `pdf` are deterministic functions of (wo, wi) and every call is reproducible.
 //! - Known limits: at most 4 interfaces; interfaces are horizontal (no per-layer normal maps);
-//!   every shading point builds the stack in one heap allocation (the `Bxdf::Layered` box).
+//!   a walk's stack is built in one heap allocation per shading point (the closed form in
+//!   none).
 
 pub mod closed_form;
 mod entrance;
