@@ -49,6 +49,7 @@
 //!   none).
 
 pub mod closed_form;
+mod coat;
 mod entrance;
 #[cfg(test)]
 mod tests;

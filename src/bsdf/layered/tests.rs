@@ -254,7 +254,7 @@ fn film_table_interpolation_matches_direct_quadrature() {
     };
     let c = CoatedDiffuse::new(coat, splat(0.5), splat(1.4));
     for (i, &l) in lambda.iter().enumerate() {
-        let (e, r, _) = super::closed_form::film_integrals_1(1.5, 1.56, 901.43, l as f64, 1.4);
+        let (e, r, _) = super::coat::film_integrals_1(1.5, 1.56, 901.43, l as f64, 1.4);
         let (got_e, got_r) = (c.escape[i] as f64, c.ret[i] as f64);
         assert!((got_e - e).abs() <= 1e-3 * e, "E at {l}: {got_e} vs {e}");
         assert!(

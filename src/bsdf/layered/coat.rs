@@ -1,0 +1,374 @@
+//! The coat of a coated diffuse stack: its reflectance at the path's wavelengths, and the
+//! integrals of its internal reflections that [`super::closed_form`] needs.
+//!
+//! - Reflectance ([`CoatOptics`]): a bare dielectric (Fresnel), or a dielectric under a thin
+//!   film, whose Airy sum runs for the four wavelengths in one pass of 4-lane arithmetic
+//!   ([`crate::optics::thinfilm::film_r4`]) and is remembered per thread for the last four
+//!   (coat, cosine, side), since the BSDF asks the same angles in `f`, `pdf` and `sample_f`.
+//! - Integrals (E, R_r and the sampling normalisation K of the closed form's module doc):
+//!   Gauss–Legendre in the cosine with the substitution μ = μc + (1 − μc)s² past the critical
+//!   cosine μc, which removes the square-root kink of the Fresnel terms there. For a film coat
+//!   they come from a per-thread table on a 1 nm × 1 nm grid of (thickness, wavelength), held
+//!   in rows of wavelengths per (coat, film index, τ, thickness) and interpolated bilinearly.
+
+use crate::bsdf::fresnel::fresnel_dielectric;
+use crate::optics::thinfilm::{film_r4, film_rt};
+use crate::spectrum::{SampledSpectrum, N};
+use num_complex::Complex64;
+use std::hash::{BuildHasherDefault, Hasher};
+use std::sync::OnceLock;
+
+/// The reflectance of the smooth coat: a bare dielectric, or a dielectric under a thin film.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum CoatOptics {
+    /// Bare interface of relative index `eta` (coat / outside).
+    Dielectric { eta: f32 },
+    /// A film of relative index `film_ior` (per wavelength, for dispersive films such as
+    /// keratin) and thickness `thickness_nm` on a coat of relative index `eta`, at the path's
+    /// wavelengths `lambda` (nm, in the outer medium).
+    Film {
+        eta: f32,
+        film_ior: [f32; N],
+        thickness_nm: f32,
+        lambda: [f32; N],
+    },
+}
+
+impl CoatOptics {
+    /// Relative index of the coat.
+    pub fn eta(&self) -> f32 {
+        match *self {
+            CoatOptics::Dielectric { eta } | CoatOptics::Film { eta, .. } => eta,
+        }
+    }
+
+    /// Reflectance per wavelength for light arriving from outside with cosine `mu` ≥ 0.
+    pub fn outside(&self, mu: f32) -> SampledSpectrum {
+        self.reflectance(mu, false)
+    }
+
+    /// Reflectance per wavelength for light arriving from inside the coat with cosine `mu`.
+    pub fn inside(&self, mu: f32) -> SampledSpectrum {
+        self.reflectance(mu, true)
+    }
+
+    /// Reflectance per wavelength from inside the coat (`inside`) or from outside.
+    fn reflectance(&self, mu: f32, inside: bool) -> SampledSpectrum {
+        match *self {
+            CoatOptics::Dielectric { eta } => {
+                SampledSpectrum::splat(fresnel_dielectric(if inside { -mu } else { mu }, eta))
+            }
+            CoatOptics::Film { .. } => self.film_memo(mu, inside),
+        }
+    }
+
+    /// A film coat's reflectance, remembered: the BSDF asks for the coat at μo and μi (and a
+    /// rough coat at wo·wm) in `f`, again in `pdf` and in `sample_f`, so each thread keeps its
+    /// last four answers with the coat, cosine and side they were for, compared bit for bit
+    /// (an answer is a pure function of those, so a remembered one is the one
+    /// [`CoatOptics::film`] would give).
+    fn film_memo(&self, mu: f32, inside: bool) -> SampledSpectrum {
+        type Remembered = ([u32; 4 + 2 * N], SampledSpectrum);
+        thread_local! {
+            static LAST: std::cell::Cell<[Option<Remembered>; 4]> =
+                const { std::cell::Cell::new([None; 4]) };
+        }
+        let key = self.film_key(mu, inside);
+        // Compared by folding the differences (`==` on the array calls `memcmp`).
+        let same = |k: &[u32; 4 + 2 * N]| k.iter().zip(&key).fold(0, |d, (a, b)| d | (a ^ b)) == 0;
+        let last = LAST.get();
+        for (k, answer) in last.iter().flatten() {
+            if same(k) {
+                return *answer;
+            }
+        }
+        let answer = self.film(mu, inside);
+        LAST.set([Some((key, answer)), last[0], last[1], last[2]]);
+        answer
+    }
+
+    /// A film coat's η, film indices, thickness and wavelengths.
+    fn film_parts(&self) -> (f32, [f32; N], f32, [f32; N]) {
+        match *self {
+            CoatOptics::Film {
+                eta,
+                film_ior,
+                thickness_nm,
+                lambda,
+            } => (eta, film_ior, thickness_nm, lambda),
+            CoatOptics::Dielectric { .. } => unreachable!("called for film coats only"),
+        }
+    }
+
+    /// The bits a film coat's answer depends on: η, thickness, the side and cosine, and the
+    /// film index and wavelength of each lane.
+    fn film_key(&self, mu: f32, inside: bool) -> [u32; 4 + 2 * N] {
+        let (eta, film_ior, thickness_nm, lambda) = self.film_parts();
+        let mut k = [0u32; 4 + 2 * N];
+        k[0] = eta.to_bits();
+        k[1] = thickness_nm.to_bits();
+        k[2] = mu.to_bits();
+        k[3] = inside as u32;
+        for i in 0..N {
+            k[4 + i] = film_ior[i].to_bits();
+            k[4 + N + i] = lambda[i].to_bits();
+        }
+        k
+    }
+
+    /// A film coat's reflectance at the four wavelengths in one pass of 4-lane arithmetic
+    /// ([`film_r4`]: the Airy sum of [`crate::optics::thinfilm::film_rt`] to a few ulp).
+    fn film(&self, mu: f32, inside: bool) -> SampledSpectrum {
+        let (eta, film_ior, thickness_nm, lambda) = self.film_parts();
+        // Indices of the media before and after the film, as the light meets them.
+        let (n0, n2) = if inside {
+            (eta as f64, 1.0)
+        } else {
+            (1.0, eta as f64)
+        };
+        let lane = |a: [f32; N]| a.map(|x| x as f64);
+        let r = film_r4(
+            mu as f64,
+            [n0; N],
+            lane(film_ior),
+            thickness_nm as f64,
+            [n2; N],
+            lane(lambda),
+        );
+        SampledSpectrum(r.map(|x| x as f32))
+    }
+}
+
+/// Gauss–Legendre nodes and weights on [0, 1].
+fn gauss_legendre() -> &'static [(f64, f64)] {
+    const M: usize = 24;
+    static NODES: OnceLock<Vec<(f64, f64)>> = OnceLock::new();
+    NODES.get_or_init(|| {
+        let mut out = Vec::with_capacity(M);
+        for i in 0..M {
+            // Newton on P_M from the Chebyshev-like initial guess.
+            let mut x = (std::f64::consts::PI * (i as f64 + 0.75) / (M as f64 + 0.5)).cos();
+            let mut dp = 1.0;
+            for _ in 0..100 {
+                let (mut p0, mut p1) = (1.0, x);
+                for k in 2..=M {
+                    let p2 = ((2 * k - 1) as f64 * x * p1 - (k - 1) as f64 * p0) / k as f64;
+                    p0 = p1;
+                    p1 = p2;
+                }
+                dp = M as f64 * (x * p1 - p0) / (x * x - 1.0);
+                let dx = p1 / dp;
+                x -= dx;
+                if dx.abs() < 1e-15 {
+                    break;
+                }
+            }
+            let w = 2.0 / ((1.0 - x * x) * dp * dp);
+            out.push((0.5 * (1.0 - x), 0.5 * w));
+        }
+        out
+    })
+}
+
+/// Quadrature nodes (μ, weight) of ∫₀¹ · dμ for integrands with a kink at `mu_c` (0: none):
+/// Gauss–Legendre on [0, μc] and, with μ = μc + (1 − μc)s², on [μc, 1].
+pub(crate) fn kinked_nodes(mu_c: f64) -> impl Iterator<Item = (f64, f64)> {
+    let gl = gauss_legendre();
+    let below = gl
+        .iter()
+        .filter(move |_| mu_c > 0.0)
+        .map(move |&(x, w)| (mu_c * x, w * mu_c));
+    let above = gl
+        .iter()
+        .map(move |&(x, w)| (mu_c + (1.0 - mu_c) * x * x, w * 2.0 * (1.0 - mu_c) * x));
+    below.chain(above)
+}
+
+/// Cosine of the refracted direction inside a coat of relative index `eta` (0 under total
+/// internal reflection).
+#[inline]
+pub(crate) fn refracted_cos(mu: f32, eta: f32) -> f32 {
+    (1.0 - (1.0 - mu * mu) / (eta * eta)).max(0.0).sqrt()
+}
+
+/// The critical cosines of a coat of relative index `eta`: inside, below which light cannot
+/// leave (0 when η ≤ 1), and outside, below which it cannot enter (0 when η ≥ 1).
+pub(crate) fn critical_cosines(eta: f64) -> (f64, f64) {
+    let inside = if eta > 1.0 {
+        (1.0 - 1.0 / (eta * eta)).sqrt()
+    } else {
+        0.0
+    };
+    let outside = if eta < 1.0 {
+        (1.0 - eta * eta).sqrt()
+    } else {
+        0.0
+    };
+    (inside, outside)
+}
+
+/// E, R_r and K (see the module header) of a film coat at one wavelength, by quadrature.
+pub(crate) fn film_integrals_1(
+    eta: f64,
+    film: f64,
+    d_nm: f64,
+    lambda: f64,
+    tau: f64,
+) -> (f64, f64, f64) {
+    let (mu_c_in, mu_c_out) = critical_cosines(eta);
+    let n_film = Complex64::new(film, 0.0);
+    let (mut e, mut r) = (0.0, 0.0);
+    for (mu, w) in kinked_nodes(mu_c_in) {
+        let fi = film_rt(mu, eta, n_film, d_nm, Complex64::new(1.0, 0.0), lambda)
+            .r()
+            .clamp(0.0, 1.0);
+        if mu > 0.0 {
+            e += w * 2.0 * mu * (-tau / mu).exp() * (1.0 - fi);
+            r += w * 2.0 * mu * (-2.0 * tau / mu).exp() * fi;
+        }
+    }
+    let k = kinked_nodes(mu_c_out)
+        .map(|(mu, w)| {
+            w * 2.0
+                * mu
+                * (1.0 - film_rt(mu, 1.0, n_film, d_nm, Complex64::new(eta, 0.0), lambda).r())
+        })
+        .sum::<f64>();
+    (e, r, k)
+}
+
+/// The film-integral table's hasher: its keys are a few small integers made by the renderer,
+/// not by an adversary, so SipHash's protection is not needed, and its cost was a tenth of a
+/// thin-film render (16 lookups per shading point). Each word is folded in by a rotate, xor
+/// and odd multiply (the multiply spreads low bits upwards; `finish` mixes the high half
+/// back down, since the table takes its bucket from the low bits).
+#[derive(Default)]
+struct KeyHasher(u64);
+
+impl Hasher for KeyHasher {
+    #[inline]
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.write_u64(b as u64);
+        }
+    }
+    #[inline]
+    fn write_u32(&mut self, x: u32) {
+        self.write_u64(x as u64);
+    }
+    #[inline]
+    fn write_i32(&mut self, x: i32) {
+        self.write_u64(x as u32 as u64);
+    }
+    #[inline]
+    fn write_u64(&mut self, x: u64) {
+        self.0 = (self.0.rotate_left(26) ^ x).wrapping_mul(0x9e37_79b9_7f4a_7c15);
+    }
+    #[inline]
+    fn finish(&self) -> u64 {
+        self.0 ^ (self.0 >> 29)
+    }
+}
+
+/// Film-coat integrals at the path's wavelengths, interpolated bilinearly from a per-thread
+/// table on a 1 nm × 1 nm grid of (thickness, wavelength).
+///
+/// A film coat's wavelengths change with every path (and its thickness may change from scale to
+/// scale), so memoising whole (coat, τ) tuples never hits; evaluating the quadrature each time
+/// costs ~50 µs per shading point. The integrals are smooth in λ and d (fringe periods are tens
+/// of nm for films up to a few µm), so linear interpolation over 1 nm errs by ~(2π·1/P)²/8
+/// relative, P the fringe period: < 1e-3 for P ≥ 70 nm. The film index is rounded to 1e-4
+/// for the table key (a phase change below 2e-3 rad for d ≤ 2 µm) and the optical depth τ to
+/// 1e-3 (|ΔE/E| ≤ 5e-4 · E[1/μ] ≈ 1e-3 for the cosine-weighted escape integral).
+pub(crate) fn film_integrals_tabulated(
+    coat: CoatOptics,
+    tau: SampledSpectrum,
+) -> (SampledSpectrum, SampledSpectrum, f32) {
+    use std::collections::HashMap;
+    /// (η bits, film index × 1e4, τ × 1e3, thickness nm): one row of the table.
+    type Key = (u32, i32, u32, i32);
+    /// E, R_r, K at every integer wavelength 0 … ROW − 1 nm (NaN: not computed yet).
+    type Row = [[f32; 3]; ROW];
+    const ROW: usize = 1024;
+    type Table = HashMap<Key, Box<Row>, BuildHasherDefault<KeyHasher>>;
+    thread_local! {
+        static TABLE: std::cell::RefCell<Table> = std::cell::RefCell::new(Table::default());
+    }
+    let CoatOptics::Film {
+        eta,
+        film_ior,
+        thickness_nm,
+        lambda,
+    } = coat
+    else {
+        unreachable!("called for film coats only")
+    };
+    let d = thickness_nm.max(0.0);
+    let (d0, fd) = (d.floor(), d - d.floor());
+    // Per wavelength: the row key's film index and τ, the grid wavelength and the weights.
+    let film_q: [i32; N] = std::array::from_fn(|i| (film_ior[i] * 1e4).round() as i32);
+    // τ usually varies with λ (an RGB σ is uplifted to a smooth spectrum), so it is rounded
+    // to 1e-3 for the key, or the table would never hit.
+    let tau_q: [u32; N] = std::array::from_fn(|i| (tau[i].max(0.0) * 1e3).round() as u32);
+    let value = |dd: f32, i: usize, l: i32| {
+        let (e, r, k) = film_integrals_1(
+            eta as f64,
+            film_q[i] as f64 * 1e-4,
+            (d0 + dd) as f64,
+            l as f64,
+            tau_q[i] as f64 * 1e-3,
+        );
+        [e as f32, r as f32, k as f32]
+    };
+    let mut acc = [[0.0f32; 3]; N];
+    TABLE.with(|t| {
+        let mut t = t.borrow_mut();
+        // Bound the memory a long, varied render can take (12 KiB a row).
+        if t.len() > 1024 {
+            t.clear();
+        }
+        for (dd, wd) in [(0.0, 1.0 - fd), (1.0, fd)] {
+            // The wavelengths usually share one row (one film index and τ): look it up once.
+            let mut cur: Option<(Key, &mut Box<Row>)> = None;
+            for i in 0..N {
+                let l = lambda[i];
+                let (l0, fl) = (l.floor(), l - l.floor());
+                let key = (eta.to_bits(), film_q[i], tau_q[i], (d0 + dd) as i32);
+                if cur.as_ref().is_none_or(|c| c.0 != key) {
+                    let row = t
+                        .entry(key)
+                        .or_insert_with(|| Box::new([[f32::NAN; 3]; ROW]));
+                    cur = Some((key, row));
+                }
+                let row = &mut cur.as_mut().expect("looked up above").1;
+                for (dl, wl) in [(0.0, 1.0 - fl), (1.0, fl)] {
+                    let w = wd * wl;
+                    if w == 0.0 {
+                        continue;
+                    }
+                    let li = (l0 + dl) as i32;
+                    let v = match usize::try_from(li).ok().filter(|&j| j < ROW) {
+                        Some(j) => {
+                            if row[j][0].is_nan() {
+                                row[j] = value(dd, i, li);
+                            }
+                            row[j]
+                        }
+                        // Outside the row (an exterior index far from 1): not remembered.
+                        None => value(dd, i, li),
+                    };
+                    for c in 0..3 {
+                        acc[i][c] += w * v[c];
+                    }
+                }
+            }
+        }
+    });
+    let escape = SampledSpectrum(std::array::from_fn(|i| acc[i][0]));
+    let ret = SampledSpectrum(std::array::from_fn(|i| acc[i][1]));
+    let mut k_sum = 0.0f32;
+    for a in &acc {
+        k_sum += a[2];
+    }
+    (escape, ret, k_sum / N as f32)
+}
