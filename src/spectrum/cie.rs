@@ -89,7 +89,7 @@ pub(crate) fn srgb_bar_node(k: usize) -> [f32; 3] {
 }
 
 /// Number of nodes of the 1 nm tables (360–830 nm).
-pub(crate) const NODES: usize = 471;
+pub(crate) const NODES: usize = CIE_Y.len();
 
 /// XYZ → linear sRGB (D65 white).
 pub fn xyz_to_linear_srgb(xyz: [f32; 3]) -> [f32; 3] {
