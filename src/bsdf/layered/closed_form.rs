@@ -40,7 +40,7 @@
 //! a plain coat, a miss for film coats, whose wavelengths change per path.
 
 pub use super::coat::CoatOptics;
-use super::coat::{critical_cosines, film_integrals_tabulated, kinked_nodes, refracted_cos};
+use super::coat::{critical_cosines, film_integrals, kinked_nodes, refracted_cos};
 use crate::bsdf::microfacet::MicrofacetDistribution;
 use crate::bsdf::{BsdfSample, BxdfFlags};
 use crate::math::{reflect, warp, Pcg32, Vec2, Vec3, INV_PI};
@@ -81,7 +81,7 @@ impl CoatedDiffuse {
                 const { std::cell::RefCell::new(([None; 8], 0)) };
         }
         let (escape, ret, k_norm) = if let CoatOptics::Film { .. } = coat {
-            film_integrals_tabulated(coat, tau)
+            film_integrals(coat, tau)
         } else {
             let hit = MEMO.with(|m| {
                 m.borrow()
