@@ -63,7 +63,11 @@ impl AliasTable {
         let f = x - i as f64;
         let (keep, alias) = self.buckets[i];
         let keep = keep as f64;
-        let (item, r) = if f < keep {
+        let (item, r) = if keep == 1.0 {
+            // A full bucket (every bucket when the weights are equal): f / 1 without the
+            // division's latency, the same bits.
+            (i, f)
+        } else if f < keep {
             (i, f / keep)
         } else {
             (alias as usize, (f - keep) / (1.0 - keep))

@@ -70,21 +70,27 @@ impl CoatOptics {
     fn film_memo(&self, mu: f32, inside: bool) -> SampledSpectrum {
         type Remembered = ([u32; 4 + 2 * N], SampledSpectrum);
         thread_local! {
-            static LAST: std::cell::Cell<[Option<Remembered>; 4]> =
-                const { std::cell::Cell::new([None; 4]) };
+            // The answers and the slot the next one takes. Borrowed in place: a `Cell` of the
+            // array would copy all of it (~300 bytes) in and out on every call.
+            static LAST: std::cell::RefCell<([Option<Remembered>; 4], usize)> =
+                const { std::cell::RefCell::new(([None; 4], 0)) };
         }
         let key = self.film_key(mu, inside);
         // Compared by folding the differences (`==` on the array calls `memcmp`).
         let same = |k: &[u32; 4 + 2 * N]| k.iter().zip(&key).fold(0, |d, (a, b)| d | (a ^ b)) == 0;
-        let last = LAST.get();
-        for (k, answer) in last.iter().flatten() {
-            if same(k) {
-                return *answer;
+        LAST.with(|last| {
+            let mut last = last.borrow_mut();
+            for (k, answer) in last.0.iter().flatten() {
+                if same(k) {
+                    return *answer;
+                }
             }
-        }
-        let answer = self.film(mu, inside);
-        LAST.set([Some((key, answer)), last[0], last[1], last[2]]);
-        answer
+            let answer = self.film(mu, inside);
+            let slot = last.1;
+            last.0[slot] = Some((key, answer));
+            last.1 = (slot + 1) % 4;
+            answer
+        })
     }
 
     /// A film coat's η, film indices, thickness and wavelengths.
