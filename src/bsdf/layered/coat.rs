@@ -68,27 +68,38 @@ impl CoatOptics {
     /// (an answer is a pure function of those, so a remembered one is the one
     /// [`CoatOptics::film`] would give).
     fn film_memo(&self, mu: f32, inside: bool) -> SampledSpectrum {
-        type Remembered = ([u32; 4 + 2 * N], SampledSpectrum);
+        type Key = [u32; 4 + 2 * N];
+        /// Keys, answers, and the slot the next answer takes. An unused slot's key is all
+        /// ones, which no coat makes (η would be a NaN).
+        struct Memo {
+            keys: [Key; 4],
+            answers: [SampledSpectrum; 4],
+            next: usize,
+        }
         thread_local! {
-            // The answers and the slot the next one takes. Borrowed in place: a `Cell` of the
-            // array would copy all of it (~300 bytes) in and out on every call.
-            static LAST: std::cell::RefCell<([Option<Remembered>; 4], usize)> =
-                const { std::cell::RefCell::new(([None; 4], 0)) };
+            // Borrowed in place: a `Cell` would copy it all in and out on every call.
+            static LAST: std::cell::RefCell<Memo> = const {
+                std::cell::RefCell::new(Memo {
+                    keys: [[u32::MAX; 4 + 2 * N]; 4],
+                    answers: [SampledSpectrum([0.0; N]); 4],
+                    next: 0,
+                })
+            };
         }
         let key = self.film_key(mu, inside);
-        // Compared by folding the differences (`==` on the array calls `memcmp`).
-        let same = |k: &[u32; 4 + 2 * N]| k.iter().zip(&key).fold(0, |d, (a, b)| d | (a ^ b)) == 0;
         LAST.with(|last| {
             let mut last = last.borrow_mut();
-            for (k, answer) in last.0.iter().flatten() {
-                if same(k) {
+            // Each key compared whole, by folding the differences (no early exit, no memcmp).
+            for (k, answer) in last.keys.iter().zip(&last.answers) {
+                if k.iter().zip(&key).fold(0, |d, (a, b)| d | (a ^ b)) == 0 {
                     return *answer;
                 }
             }
             let answer = self.film(mu, inside);
-            let slot = last.1;
-            last.0[slot] = Some((key, answer));
-            last.1 = (slot + 1) % 4;
+            let slot = last.next;
+            last.keys[slot] = key;
+            last.answers[slot] = answer;
+            last.next = (slot + 1) % 4;
             answer
         })
     }
@@ -380,6 +391,55 @@ impl Hasher for KeyHasher {
     }
 }
 
+/// (η bits, film index × 1e4, τ × 1e3, thickness nm): one row of the film-integral table.
+type RowKey = (u32, i32, u32, i32);
+/// E, R_r, K at every integer wavelength 0 … ROW − 1 nm (NaN: not computed yet).
+type Row = [[f32; 3]; ROW];
+const ROW: usize = 1024;
+
+/// The per-thread film-integral table: rows found by key, and the last two rows found, which
+/// a coat of one thickness (or of slowly varying thickness) asks for again at every shading
+/// point, checked before hashing.
+#[derive(Default)]
+struct FilmTable {
+    index: std::collections::HashMap<RowKey, usize, BuildHasherDefault<KeyHasher>>,
+    rows: Vec<Box<Row>>,
+    recent: [Option<(RowKey, usize)>; 2],
+}
+
+impl FilmTable {
+    /// The row for `key`, made (all NaN) if new.
+    fn row(&mut self, key: RowKey) -> &mut Row {
+        let found = self
+            .recent
+            .iter()
+            .flatten()
+            .find(|r| r.0 == key)
+            .map(|r| r.1);
+        let at = match found {
+            Some(at) => at,
+            None => {
+                // Bound the memory a long, varied render can take (12 KiB a row).
+                if self.rows.len() >= 1024 {
+                    *self = FilmTable::default();
+                }
+                let rows = &mut self.rows;
+                let at = *self.index.entry(key).or_insert_with(|| {
+                    rows.push(Box::new([[f32::NAN; 3]; ROW]));
+                    rows.len() - 1
+                });
+                self.recent = [Some((key, at)), self.recent[0]];
+                at
+            }
+        };
+        &mut self.rows[at]
+    }
+}
+
+thread_local! {
+    static FILM_TABLE: std::cell::RefCell<FilmTable> = std::cell::RefCell::new(FilmTable::default());
+}
+
 /// Film-coat integrals at the path's wavelengths, interpolated bilinearly from a per-thread
 /// table on a 1 nm × 1 nm grid of (thickness, wavelength).
 ///
@@ -394,60 +454,29 @@ fn film_integrals_tabulated(
     coat: CoatOptics,
     tau: SampledSpectrum,
 ) -> (SampledSpectrum, SampledSpectrum, f32) {
-    use std::collections::HashMap;
-    /// (η bits, film index × 1e4, τ × 1e3, thickness nm): one row of the table.
-    type Key = (u32, i32, u32, i32);
-    /// E, R_r, K at every integer wavelength 0 … ROW − 1 nm (NaN: not computed yet).
-    type Row = [[f32; 3]; ROW];
-    const ROW: usize = 1024;
-    type Table = HashMap<Key, Box<Row>, BuildHasherDefault<KeyHasher>>;
-    thread_local! {
-        static TABLE: std::cell::RefCell<Table> = std::cell::RefCell::new(Table::default());
-    }
-    let CoatOptics::Film {
-        eta,
-        film_ior,
-        thickness_nm,
-        lambda,
-    } = coat
-    else {
-        unreachable!("called for film coats only")
-    };
+    let (eta, film_ior, thickness_nm, lambda) = coat.film_parts();
     let d = thickness_nm.max(0.0);
     let (d0, fd) = (d.floor(), d - d.floor());
-    // Per wavelength: the row key's film index and τ, the grid wavelength and the weights.
-    let (film_q, tau_q) = (film_index_key(film_ior), tau_key(tau));
-    let value = |dd: f32, i: usize, l: i32| {
+    // The caller ([`film_integrals`]) sends only coats whose wavelengths share one key.
+    let (film_q, tau_q) = (film_index_key(film_ior)[0], tau_key(tau)[0]);
+    let value = |dd: f32, l: i32| {
         let (e, r, k) = film_integrals_1(
             eta as f64,
-            film_q[i] as f64 * 1e-4,
+            film_q as f64 * 1e-4,
             (d0 + dd) as f64,
             l as f64,
-            tau_q[i] as f64 * 1e-3,
+            tau_q as f64 * 1e-3,
         );
         [e as f32, r as f32, k as f32]
     };
     let mut acc = [[0.0f32; 3]; N];
-    TABLE.with(|t| {
+    FILM_TABLE.with(|t| {
         let mut t = t.borrow_mut();
-        // Bound the memory a long, varied render can take (12 KiB a row).
-        if t.len() > 1024 {
-            t.clear();
-        }
         for (dd, wd) in [(0.0, 1.0 - fd), (1.0, fd)] {
-            // The wavelengths usually share one row (one film index and τ): look it up once.
-            let mut cur: Option<(Key, &mut Box<Row>)> = None;
+            let row = t.row((eta.to_bits(), film_q, tau_q, (d0 + dd) as i32));
             for i in 0..N {
                 let l = lambda[i];
                 let (l0, fl) = (l.floor(), l - l.floor());
-                let key = (eta.to_bits(), film_q[i], tau_q[i], (d0 + dd) as i32);
-                if cur.as_ref().is_none_or(|c| c.0 != key) {
-                    let row = t
-                        .entry(key)
-                        .or_insert_with(|| Box::new([[f32::NAN; 3]; ROW]));
-                    cur = Some((key, row));
-                }
-                let row = &mut cur.as_mut().expect("looked up above").1;
                 for (dl, wl) in [(0.0, 1.0 - fl), (1.0, fl)] {
                     let w = wd * wl;
                     if w == 0.0 {
@@ -457,12 +486,12 @@ fn film_integrals_tabulated(
                     let v = match usize::try_from(li).ok().filter(|&j| j < ROW) {
                         Some(j) => {
                             if row[j][0].is_nan() {
-                                row[j] = value(dd, i, li);
+                                row[j] = value(dd, li);
                             }
                             row[j]
                         }
                         // Outside the row (an exterior index far from 1): not remembered.
-                        None => value(dd, i, li),
+                        None => value(dd, li),
                     };
                     for c in 0..3 {
                         acc[i][c] += w * v[c];
