@@ -356,10 +356,11 @@ impl LayeredBxdf {
                 }
             }
         }
-        let (ifs, n) = walk::inline_interfaces(top.into_iter().chain(base).chain(rest))?;
-        Stack::from_parts(ifs, n, media, max_depth).map(|s| LayeredBxdf {
-            model: LayeredModel::Walk(Box::new(s)),
-            seed,
+        Stack::boxed(top.into_iter().chain(base).chain(rest), media, max_depth).map(|s| {
+            LayeredBxdf {
+                model: LayeredModel::Walk(s),
+                seed,
+            }
         })
     }
 

@@ -122,23 +122,6 @@ struct Chain {
     mis: bool,
 }
 
-/// Up to [`MAX_INTERFACES`] interfaces in inline storage (rest `Black`) and their count;
-/// `None` if there are more.
-pub(crate) fn inline_interfaces(
-    it: impl IntoIterator<Item = Bxdf>,
-) -> Option<([Bxdf; MAX_INTERFACES], usize)> {
-    let mut it = it.into_iter();
-    let mut n = 0;
-    let arr = std::array::from_fn(|_| match it.next() {
-        Some(b) => {
-            n += 1;
-            b
-        }
-        None => Bxdf::Black,
-    });
-    it.next().is_none().then_some((arr, n))
-}
-
 fn is_delta_only(b: &Bxdf) -> bool {
     let f = b.flags();
     f.is_specular() && !f.is_non_specular()
@@ -180,38 +163,44 @@ fn eta_factor(bs: &crate::bsdf::BsdfSample, mode: TransportMode) -> f32 {
 impl Stack {
     /// A stack of `interfaces` (top first, 2 ≤ n ≤ [`MAX_INTERFACES`]) and the n − 1 `media`
     /// between them; `None` for a wrong count.
+    #[cfg(test)]
     pub fn new(
         interfaces: impl IntoIterator<Item = Bxdf>,
         media: &[Medium],
         max_depth: u32,
     ) -> Option<Stack> {
-        let (interfaces, n) = inline_interfaces(interfaces)?;
-        Stack::from_parts(interfaces, n, media, max_depth)
+        Stack::boxed(interfaces, media, max_depth).map(|s| *s)
     }
 
-    /// A stack from inline storage holding `n` interfaces.
-    pub(crate) fn from_parts(
-        interfaces: [Bxdf; MAX_INTERFACES],
-        n: usize,
+    /// A boxed stack of `interfaces` (top first, 2 ≤ n ≤ [`MAX_INTERFACES`]) and the n − 1
+    /// `media` between them; `None` for a wrong count. Made in its box, the interfaces moved in
+    /// one by one (building the stack, then boxing it, copied its ~800 bytes three times per
+    /// shading point).
+    pub(crate) fn boxed(
+        interfaces: impl IntoIterator<Item = Bxdf>,
         media: &[Medium],
         max_depth: u32,
-    ) -> Option<Stack> {
-        if !(2..=MAX_INTERFACES).contains(&n) || media.len() != n - 1 {
+    ) -> Option<Box<Stack>> {
+        let mut s = Box::new(Stack {
+            interfaces: [const { Bxdf::Black }; MAX_INTERFACES],
+            media: [Medium::absorbing(SampledSpectrum::ZERO); MAX_INTERFACES - 1],
+            n: 0,
+            max_depth: max_depth.max(1),
+            t_weight: 1.0,
+        });
+        for b in interfaces {
+            if s.n == MAX_INTERFACES {
+                return None;
+            }
+            s.interfaces[s.n] = b;
+            s.n += 1;
+        }
+        if !(2..=MAX_INTERFACES).contains(&s.n) || media.len() != s.n - 1 {
             return None;
         }
-        let t_weight = super::entrance::return_estimate(&interfaces, n, media);
-        Some(Stack {
-            interfaces,
-            media: std::array::from_fn(|i| {
-                media
-                    .get(i)
-                    .copied()
-                    .unwrap_or(Medium::absorbing(SampledSpectrum::ZERO))
-            }),
-            n,
-            max_depth: max_depth.max(1),
-            t_weight,
-        })
+        s.media[..media.len()].copy_from_slice(media);
+        s.t_weight = super::entrance::return_estimate(&s.interfaces, s.n, media);
+        Some(s)
     }
 
     /// The weight of transmission against reflection in the top interface's first choice from
