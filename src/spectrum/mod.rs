@@ -174,9 +174,9 @@ pub struct SampledWavelengths {
 }
 
 impl SampledWavelengths {
-    /// Hero-wavelength sampling by the sRGB response ([`response`]): the hero is drawn from
-    /// `u`, the others from `u + i/N` (mod 1), all through the same inverse CDF so each has the
-    /// same density.
+    /// Hero-wavelength sampling by the sRGB response ([`response`]): the i-th wavelength from
+    /// (u + i)/N ([`response::hero_position`]), all through the same inverse CDF so each has
+    /// the same density.
     pub fn sample_visible(u: f32) -> SampledWavelengths {
         let (lambda, pdf) = response::sample_hero(u);
         SampledWavelengths { lambda, pdf }
@@ -189,8 +189,8 @@ impl SampledWavelengths {
         let mut lambda = [u; N];
         let mut pdf = [u; N];
         for i in 0..N {
-            let up = u + F::splat(i as f32 / N as f32);
-            let up = F::select(up.ge(F::splat(1.0)), up - F::splat(1.0), up);
+            // response::hero_position in lanes: the same operations, so the same bits.
+            let up = (u + F::splat(i as f32)) * F::splat(1.0 / N as f32);
             (lambda[i], pdf[i]) = response::sample_lanes(up);
         }
         (lambda, pdf)

@@ -72,7 +72,22 @@ pub fn sample_response_wavelength(u: f32) -> (f32, f32) {
     sample_in(table(), u)
 }
 
-/// The hero wavelengths for `u`: the i-th from `u + i/N` (mod 1), with their densities (the
+/// Where in the response's CDF the i-th of the path's wavelengths lies for `u`: (u + i)/N.
+///
+/// The N positions are evenly spaced, each in its own 1/N of the CDF, offset together by u/N;
+/// so each wavelength, and the set, has the density of the response (the estimator is the
+/// same as with u + i/N mod 1, which makes the same sets). The offset takes u's leading
+/// digits, not its trailing ones (u + i/N mod 1 offsets the set by u mod 1/N): with
+/// low-discrepancy samples, n samples of a pixel, whose leading digits are stratified first,
+/// then spread the pixel's n·N wavelengths over n·N strata instead of repeating the N strata
+/// each sample already covers (a white sky at 4 spp: Sobol gained nothing over independent
+/// samples before).
+#[inline(always)]
+pub(crate) fn hero_position(u: f32, i: usize) -> f32 {
+    (u + i as f32) * (1.0 / super::N as f32)
+}
+
+/// The hero wavelengths for `u`: the i-th at [`hero_position`], with their densities (the
 /// table fetched once for all of them).
 #[inline]
 pub(crate) fn sample_hero(u: f32) -> ([f32; super::N], [f32; super::N]) {
@@ -80,9 +95,7 @@ pub(crate) fn sample_hero(u: f32) -> ([f32; super::N], [f32; super::N]) {
     let mut lambda = [0.0; super::N];
     let mut pdf = [0.0; super::N];
     for i in 0..super::N {
-        let up = u + i as f32 / super::N as f32;
-        let up = if up >= 1.0 { up - 1.0 } else { up };
-        (lambda[i], pdf[i]) = sample_in(t, up);
+        (lambda[i], pdf[i]) = sample_in(t, hero_position(u, i));
     }
     (lambda, pdf)
 }
@@ -211,6 +224,26 @@ mod tests {
                 (m - 1.0).abs() < 4.0 * se,
                 "channel {c}: mean {m} (se {se})"
             );
+        }
+    }
+
+    #[test]
+    fn stratified_samples_give_stratified_wavelength_sets() {
+        // n samples stratified in u (one per 1/n, as a low-discrepancy sampler's first n are)
+        // must put the n·N wavelengths' CDF positions one in each of n·N strata; with
+        // u + i/N mod 1 every one of 4 samples covered the same 4 strata of 16.
+        for n in [1usize, 2, 4, 8, 16] {
+            let strata = n * crate::spectrum::N;
+            let mut hit = vec![0u32; strata];
+            for k in 0..n {
+                let u = (k as f32 + 0.37) / n as f32;
+                for i in 0..crate::spectrum::N {
+                    let x = hero_position(u, i);
+                    assert!((0.0..1.0).contains(&x), "position {x}");
+                    hit[(x * strata as f32) as usize] += 1;
+                }
+            }
+            assert!(hit.iter().all(|&h| h == 1), "{n} samples: {hit:?}");
         }
     }
 }
