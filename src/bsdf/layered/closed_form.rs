@@ -35,9 +35,10 @@
 //!
 //! The coat's reflectance and the integrals' quadrature and table are in `coat.rs`.
 //! Known limits: coat factors `specular_reflectance`/`specular_transmittance` must be 1 (other
-//! stacks use the random walk); the quadrature (48 nodes; for a film top ~200 Airy evaluations,
-//! ≈ 33 µs) is memoised per thread for the last 8 (coat, τ) — a hit for constant materials with
-//! a plain coat, a miss for film coats, whose wavelengths change per path.
+//! stacks use the random walk). A plain coat's quadrature (48 nodes) is memoised per thread for
+//! the last 8 (coat, τ); a film coat's integrals change with the path's wavelengths and come
+//! from a per-thread table or, for a dispersive film or a coloured slab, a smaller 4-lane
+//! quadrature per shading point (`coat.rs`).
 
 pub use super::coat::CoatOptics;
 use super::coat::{critical_cosines, film_integrals, kinked_nodes, refracted_cos};

@@ -4,12 +4,15 @@
 //! - Reflectance ([`CoatOptics`]): a bare dielectric (Fresnel), or a dielectric under a thin
 //!   film, whose Airy sum runs for the four wavelengths in one pass of 4-lane arithmetic
 //!   ([`crate::optics::thinfilm::film_r4`]) and is remembered per thread for the last four
-//!   (coat, cosine, side), since the BSDF asks the same angles in `f`, `pdf` and `sample_f`.
+//!   (coat, cosine, side), since the BSDF asks the same angles in `f`, `pdf` and `sample_f`
+//!   (the memo is borrowed in place and its keys compared whole: copying it cost 10 %).
 //! - Integrals (E, R_r and the sampling normalisation K of the closed form's module doc):
 //!   Gauss–Legendre in the cosine with the substitution μ = μc + (1 − μc)s² past the critical
 //!   cosine μc, which removes the square-root kink of the Fresnel terms there. For a film coat
-//!   they come from a per-thread table on a 1 nm × 1 nm grid of (thickness, wavelength), held
-//!   in rows of wavelengths per (coat, film index, τ, thickness) and interpolated bilinearly.
+//!   whose index and τ do not change with wavelength they come from a per-thread table on a
+//!   1 nm × 1 nm grid of (thickness, wavelength), held in rows of wavelengths per (coat, film
+//!   index, τ, thickness) and interpolated bilinearly; otherwise (keratin, an RGB σ: a row per
+//!   wavelength, never met twice) from a 4-lane quadrature sized by the film's fringes.
 
 use crate::bsdf::fresnel::fresnel_dielectric;
 use crate::optics::thinfilm::{film_r4, film_rt};
