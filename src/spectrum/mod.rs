@@ -175,7 +175,7 @@ pub struct SampledWavelengths {
 
 impl SampledWavelengths {
     /// Hero-wavelength sampling by the sRGB response ([`response`]): the i-th wavelength from
-    /// (u + i)/N ([`response::hero_position`]), all through the same inverse CDF so each has
+    /// (u + i)/N (`response::hero_position`), all through the same inverse CDF so each has
     /// the same density.
     pub fn sample_visible(u: f32) -> SampledWavelengths {
         let (lambda, pdf) = response::sample_hero(u);

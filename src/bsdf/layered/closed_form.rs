@@ -33,15 +33,16 @@
 //! the mixture P · D_wo(wm) / (4 wo·wm) + (1 − P) p(ωi). This is the plastic approximation of
 //! Weidlich & Wilkie 2007 (Mitsuba's `roughplastic`), not exact (see [`super`]).
 //!
-//! The coat's reflectance and the integrals' quadrature and table are in `coat.rs`.
+//! The coat's reflectance is in `coat.rs`, the integrals' quadratures and table in
+//! `integrals.rs`.
 //! Known limits: coat factors `specular_reflectance`/`specular_transmittance` must be 1 (other
 //! stacks use the random walk). A plain coat's quadrature (48 nodes) is memoised per thread for
 //! the last 8 (coat, τ); a film coat's integrals change with the path's wavelengths and come
 //! from a per-thread table or, for a dispersive film or a coloured slab, a smaller 4-lane
-//! quadrature per shading point (`coat.rs`).
+//! quadrature per shading point.
 
 pub use super::coat::CoatOptics;
-use super::coat::{critical_cosines, film_integrals, kinked_nodes, refracted_cos};
+use super::integrals::{critical_cosines, film_integrals, kinked_nodes, refracted_cos};
 use crate::bsdf::microfacet::MicrofacetDistribution;
 use crate::bsdf::{BsdfSample, BxdfFlags};
 use crate::math::{reflect, warp, Pcg32, Vec2, Vec3, INV_PI};

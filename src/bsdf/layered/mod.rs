@@ -51,6 +51,7 @@
 pub mod closed_form;
 mod coat;
 mod entrance;
+mod integrals;
 #[cfg(test)]
 mod tests;
 #[cfg(test)]

@@ -254,7 +254,7 @@ fn film_table_interpolation_matches_direct_quadrature() {
     };
     let c = CoatedDiffuse::new(coat, splat(0.5), splat(1.4));
     for (i, &l) in lambda.iter().enumerate() {
-        let (e, r, _) = super::coat::film_integrals_1(1.5, 1.56, 901.43, l as f64, 1.4);
+        let (e, r, _) = super::integrals::film_integrals_1(1.5, 1.56, 901.43, l as f64, 1.4);
         let (got_e, got_r) = (c.escape[i] as f64, c.ret[i] as f64);
         assert!((got_e - e).abs() <= 1e-3 * e, "E at {l}: {got_e} vs {e}");
         assert!(
@@ -354,7 +354,7 @@ fn film_integrals_direct_matches_a_fine_sum() {
     // from 1.3 to 2.4, dispersive (the index differs per lane) and absorbing slabs. The bound
     // is the 24-point rule's own error on the worst case (6.7e-5: a 2 µm film of 1.3 in a coat
     // less dense than the outside, η = 0.8), which smaller rules must not exceed.
-    use super::coat::{critical_cosines, film_integrals_direct};
+    use super::integrals::{critical_cosines, film_integrals_direct};
     use crate::optics::thinfilm::film_rt;
     use num_complex::Complex64;
     let fine = |mu_c: f64, f: &dyn Fn(f64) -> f64| -> f64 {
@@ -438,7 +438,7 @@ fn coated_diffuse_integrates_a_dispersive_film_over_a_coloured_slab() {
     };
     let c = CoatedDiffuse::new(coat, splat(0.5), SampledSpectrum(tau));
     for i in 0..4 {
-        let (e, r, _) = super::coat::film_integrals_1(
+        let (e, r, _) = super::integrals::film_integrals_1(
             1.45,
             film_ior[i] as f64,
             337.5,
