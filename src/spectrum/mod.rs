@@ -214,7 +214,10 @@ impl SampledWavelengths {
         }
     }
 
-    /// The hero wavelength.
+    /// The first wavelength. From [`SampledWavelengths::sample_visible`] it always lies in the
+    /// first 1/N of the response's CDF (only the set as a whole has the response's density), so
+    /// an event that keeps a single wavelength (dispersion) must pick one of the N uniformly at
+    /// random rather than keep this one.
     #[inline]
     pub fn hero(&self) -> f32 {
         self.lambda[0]
