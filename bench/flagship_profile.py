@@ -120,7 +120,10 @@ def main():
     args = ap.parse_args()
     if not os.path.exists(EXE):
         sys.exit(f"{EXE} is missing: run `cargo build --release` first")
-    res = tuple(int(v) for v in args.res.split("x"))
+    m = re.fullmatch(r"([1-9][0-9]*)x([1-9][0-9]*)", args.res)
+    if not m:
+        sys.exit(f"--res {args.res!r}: expected WIDTHxHEIGHT, e.g. 320x180")
+    res = (int(m.group(1)), int(m.group(2)))
     date = time.strftime("%Y-%m-%d")
     with tempfile.TemporaryDirectory() as tmp:
         args.tmp = tmp
