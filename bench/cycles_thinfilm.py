@@ -70,8 +70,12 @@ import time
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 OUT = os.path.join(ROOT, "target", "bench", "thinfilm")
 SCENE = os.path.join(ROOT, "bench", "thinfilm-sphere.xml")
-# The scene's parameters, shared by both renderers.
-ALPHA, FILM_IOR, FILM_NM, IOR, BASE, SKY, SUN = 0.05, 1.56, 500.0, 1.5, 0.02, 0.8, 2.0
+# The scene's parameters, shared by both renderers. --sun, --base and --film-nm change three of
+# them for both (the Cycles worker, a separate process, reads them from the environment).
+ALPHA, FILM_IOR, IOR, SKY = 0.05, 1.56, 1.5, 0.8
+FILM_NM = float(os.environ.get("THINFILM_BENCH_FILM_NM", "500"))
+BASE = float(os.environ.get("THINFILM_BENCH_BASE", "0.02"))
+SUN = float(os.environ.get("THINFILM_BENCH_SUN", "2"))
 SUN_DIR = (1.0, -1.0, -1.0)
 
 
@@ -286,9 +290,21 @@ def main():
                     "`thinfilm`; rough_coat: `walk`, the default, or `plastic`)")
     ap.add_argument("-D", dest="define", action="append", default=[],
                     help="extra scene parameter for ophis, name=value")
+    ap.add_argument("--sun", type=float, help="the sun's irradiance, W/m² (default 2; 0: none)")
+    ap.add_argument("--base", type=float, help="the base's albedo (default 0.02)")
+    ap.add_argument("--film-nm", type=float,
+                    help="the film's thickness, nm (default 500; 0: a bare rough dielectric)")
     ap.add_argument("--no-cycles", action="store_true", help="ophis only")
     ap.add_argument("--no-build", action="store_true")
     a = ap.parse_args()
+    for opt, env, define in (("sun", "SUN", "sun"), ("base", "BASE", "base"),
+                             ("film_nm", "FILM_NM", "thickness")):
+        v = getattr(a, opt)
+        if v is not None:
+            if not (math.isfinite(v) and v >= 0.0):
+                sys.exit("--%s %r: expected a finite value ≥ 0" % (opt.replace("_", "-"), v))
+            os.environ["THINFILM_BENCH_" + env] = repr(v)
+            a.define.append("%s=%r" % (define, v))
     spps = [int(s) for s in a.spp.split(",")]
     rend = renderers(a)
     names = list(rend)
