@@ -56,6 +56,9 @@ How the two models differ (each is compared only with itself):
 usage: python3 bench/cycles_thinfilm.py [--res 96] [--ref-spp 4096] [--spp 4,8,...,256]
                                         [--repeats 2] [--threads 2] [--no-build]
                                         [--ophis stratified:roughthinfilm:plastic,...] [--no-cycles]
+                                        [--sun 2] [--base 0.02] [--film-nm 500]
+(--sun, --base and --film-nm change the scene for both renderers: `--sun 0 --base 0 --film-nm 0`
+leaves a bare rough dielectric under the grey sky, to compare the glossy lobes alone.)
 Needs `pip install bpy` (Blender 5.0's Cycles) and numpy.
 """
 import argparse
