@@ -200,7 +200,7 @@ pub(crate) fn film_integrals(
     let (_, film_ior, _, _) = coat.film_parts();
     let (film_q, tau_q) = (film_index_key(film_ior), tau_key(tau));
     if film_q.iter().all(|&q| q == film_q[0]) && tau_q.iter().all(|&q| q == tau_q[0]) {
-        film_integrals_tabulated(coat, tau)
+        film_integrals_tabulated(coat, film_q[0], tau_q[0])
     } else {
         film_integrals_direct(coat, tau)
     }
@@ -309,15 +309,17 @@ thread_local! {
 /// relative, P the fringe period: < 1e-3 for P ≥ 70 nm. The film index is rounded to 1e-4
 /// for the table key (a phase change below 2e-3 rad for d ≤ 2 µm) and the optical depth τ to
 /// 1e-3 (|ΔE/E| ≤ 5e-4 · E[1/μ] ≈ 1e-3 for the cosine-weighted escape integral).
+///
+/// `film_q` and `tau_q` are the table keys of the film index and τ, which [`film_integrals`]
+/// has checked all four wavelengths share.
 fn film_integrals_tabulated(
     coat: CoatOptics,
-    tau: SampledSpectrum,
+    film_q: i32,
+    tau_q: u32,
 ) -> (SampledSpectrum, SampledSpectrum, f32) {
-    let (eta, film_ior, thickness_nm, lambda) = coat.film_parts();
+    let (eta, _, thickness_nm, lambda) = coat.film_parts();
     let d = thickness_nm.max(0.0);
     let (d0, fd) = (d.floor(), d - d.floor());
-    // The caller ([`film_integrals`]) sends only coats whose wavelengths share one key.
-    let (film_q, tau_q) = (film_index_key(film_ior)[0], tau_key(tau)[0]);
     let value = |dd: f32, l: i32| {
         let (e, r, k) = film_integrals_1(
             eta as f64,

@@ -256,9 +256,9 @@ fn phase_g(a: &mut Args, i: usize) -> Result<f32, SceneError> {
 /// How a layered BSDF is evaluated: the closed form or the random walk.
 #[derive(Clone, Debug)]
 pub enum LayeredModel {
-    /// Inline (112 bytes): a thin-film coat makes one per shading point, without allocating.
+    /// Inline: a thin-film coat makes one per shading point, without allocating.
     Closed(CoatedDiffuse),
-    /// Boxed: the walk holds its interfaces inline (800 bytes).
+    /// Boxed: the walk holds its interfaces inline (hundreds of bytes).
     Walk(Box<Stack>),
 }
 
