@@ -259,6 +259,26 @@ impl Bxdf {
         }
     }
 
+    /// Whether this BSDF's own samples should carry the light of uniform environments alone,
+    /// without light samples ([`crate::light::LightSampler::sample_for`]; measurements in
+    /// [`crate::integrator::path`]'s notes): true for the BSDFs with a glossy or delta lobe
+    /// that sample f · cos closely and choose their lobes in proportion to their albedos (rough
+    /// conductors, dielectrics, films and stacks, the plastics, closed-form coats); false for
+    /// the Lambertian surface, whose cosine-distributed light samples are as good as its own
+    /// and add a second look at the sky's visibility, and for the random walk, whose own
+    /// samples are noisy.
+    pub fn samples_uniform_env(&self) -> bool {
+        match self {
+            Bxdf::RoughDielectric(_)
+            | Bxdf::RoughConductor(_)
+            | Bxdf::RoughThinFilm(_)
+            | Bxdf::RoughFilmStack(_)
+            | Bxdf::Plastic(_) => true,
+            Bxdf::Layered(b) => matches!(b.model, layered::LayeredModel::Closed(_)),
+            _ => false,
+        }
+    }
+
     /// BSDF value (no cosine) for the pair; 0 for delta lobes. Deterministic: a stochastic
     /// BSDF draws its random numbers from a hash of its seed and the pair.
     pub fn f(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> SampledSpectrum {
@@ -397,6 +417,11 @@ impl Bsdf {
         wo.z *= s;
         wi.z *= s;
         (wo, wi)
+    }
+
+    /// [`Bxdf::samples_uniform_env`].
+    pub fn samples_uniform_env(&self) -> bool {
+        self.bxdf.samples_uniform_env()
     }
 
     /// BSDF value for world-space directions.

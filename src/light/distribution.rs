@@ -7,7 +7,7 @@
 //! ~1e-7 of the total may never be drawn although its pdf is positive.
 
 use crate::math::{Vec2, ONE_MINUS_EPSILON};
-use crate::simd::{Float, Int};
+use crate::simd::{Float, Int, Mask};
 
 /// A piecewise-constant density on [0, 1) with `n` equal cells.
 ///
@@ -188,17 +188,32 @@ impl Distribution2D {
 /// With the even mixture every light gets at least half of what either pure rule would give
 /// it, so the variance of its contribution is at most twice that of the better rule. Lights of
 /// zero power are never chosen unless every light has zero power; then the choice is uniform.
+///
+/// A second distribution leaves out the uniform environments (`constant`): the same choice
+/// conditioned on not picking one, for vertices whose BSDF samples such a light better than
+/// light sampling can (see [`crate::integrator::path`]'s module notes).
 #[derive(Clone, Debug)]
 pub struct LightSampler {
     dist: Option<Distribution1D>,
+    /// The choice without uniform environments; `None` when no other light can be chosen.
+    without_env: Option<Distribution1D>,
+    /// Whether light `i` is a uniform environment.
+    uniform_env: Vec<bool>,
 }
 
 /// The share of the probability spread evenly over the emitting lights.
 pub(crate) const UNIFORM_SHARE: f64 = 0.5;
 
 impl LightSampler {
-    /// A sampler for lights of the given powers.
+    /// A sampler for lights of the given powers, none of them a uniform environment.
     pub fn new(powers: &[f32]) -> LightSampler {
+        LightSampler::with_uniform_envs(powers, &vec![false; powers.len()])
+    }
+
+    /// A sampler for lights of the given powers, where `uniform_env[i]` says whether light `i`
+    /// is a uniform environment.
+    pub fn with_uniform_envs(powers: &[f32], uniform_env: &[bool]) -> LightSampler {
+        assert_eq!(powers.len(), uniform_env.len());
         let ok = |p: f32| p.is_finite() && p > 0.0;
         let total: f64 = powers.iter().filter(|&&p| ok(p)).map(|&p| p as f64).sum();
         let emitting = powers.iter().filter(|&&p| ok(p)).count();
@@ -215,9 +230,63 @@ impl LightSampler {
                 }
             })
             .collect();
+        let dist = (!powers.is_empty()).then(|| Distribution1D::new(&weights));
+        let without_env = dist.as_ref().and_then(|d| {
+            let w: Vec<f32> = (0..powers.len())
+                .map(|i| if uniform_env[i] { 0.0 } else { d.pmf(i) })
+                .collect();
+            w.iter().any(|&x| x > 0.0).then(|| Distribution1D::new(&w))
+        });
         LightSampler {
-            dist: (!powers.is_empty()).then(|| Distribution1D::new(&weights)),
+            dist,
+            without_env,
+            uniform_env: uniform_env.to_vec(),
         }
+    }
+
+    /// Whether some light is a uniform environment (so that leaving them out changes the
+    /// choice).
+    pub fn has_uniform_env(&self) -> bool {
+        self.uniform_env.iter().any(|&u| u)
+    }
+
+    /// Whether light `i` is a uniform environment.
+    pub(crate) fn is_uniform_env(&self, i: usize) -> bool {
+        self.uniform_env.get(i).copied().unwrap_or(false)
+    }
+
+    /// Picks a light, leaving out the uniform environments when `no_env`: (index,
+    /// probability); `None` when there is nothing to choose.
+    pub fn sample_for(&self, u: f32, no_env: bool) -> Option<(usize, f32)> {
+        if !no_env {
+            return self.sample(u);
+        }
+        let (i, p, _) = self.without_env.as_ref()?.sample_discrete(u);
+        Some((i, p))
+    }
+
+    /// Probability that [`Self::sample_for`] picks light `i`.
+    pub(crate) fn pmf_for(&self, i: usize, no_env: bool) -> f32 {
+        if !no_env {
+            return self.pmf(i);
+        }
+        self.without_env.as_ref().map_or(0.0, |d| d.pmf(i))
+    }
+
+    /// [`LightSampler::sample_for`] on lanes, leaving out the uniform environments in the
+    /// lanes of `no_env`: (light, probability; 0 where nothing can be chosen), `None` without
+    /// lights.
+    #[inline(always)]
+    pub(crate) fn sample_lanes_for<F: Float>(&self, u: F, no_env: F::M) -> Option<(F::I, F)> {
+        let all = self.sample_lanes(u)?;
+        if !no_env.any() {
+            return Some(all);
+        }
+        let (i, p) = match &self.without_env {
+            Some(d) => d.sample_discrete_lanes(u),
+            None => (F::I::splat(0), F::splat(0.0)),
+        };
+        Some((F::I::select(no_env, i, all.0), F::select(no_env, p, all.1)))
     }
 
     /// Picks a light: (index, probability); `None` when there are no lights.
@@ -375,5 +444,50 @@ mod tests {
         // Overflowing powers still give a valid, even choice.
         let s = LightSampler::new(&[f32::MAX, f32::MAX, f32::MAX]);
         assert!((s.pmf(2) - 1.0 / 3.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn choice_without_uniform_environments_is_the_conditional_choice() {
+        // Lights 1 and 3 are uniform environments; light 4 emits nothing.
+        let powers = [2.0, 30.0, 6.0, 5.0, 0.0];
+        let env = [false, true, false, true, false];
+        let s = LightSampler::with_uniform_envs(&powers, &env);
+        assert!(s.has_uniform_env() && s.is_uniform_env(3) && !s.is_uniform_env(0));
+        let rest = s.pmf(0) + s.pmf(2);
+        for (i, &is_env) in env.iter().enumerate() {
+            let want = if is_env { 0.0 } else { s.pmf(i) / rest };
+            assert!((s.pmf_for(i, true) - want).abs() < 1e-6, "{i}");
+            assert_eq!(s.pmf_for(i, false), s.pmf(i));
+        }
+        let mut rng = Pcg32::new(3, 0);
+        let n = 100_000;
+        let mut counts = [0u32; 5];
+        for _ in 0..n {
+            let (i, p) = s.sample_for(rng.next_f32(), true).unwrap();
+            assert_eq!(p, s.pmf_for(i, true));
+            counts[i] += 1;
+        }
+        check_frequencies(&counts, |i| s.pmf_for(i, true), n);
+        // The lanes give the same choices, per lane as asked.
+        let us: Vec<f32> = (0..64).map(|k| (k as f32 + 0.5) / 64.0).collect();
+        for (k, &u) in us.iter().enumerate() {
+            let no_env = k % 2 == 0;
+            let (i, p) = s
+                .sample_lanes_for::<f32>(u, no_env)
+                .map(|(i, p)| (i as usize, p))
+                .unwrap();
+            assert_eq!(Some((i, p)), s.sample_for(u, no_env), "u = {u}");
+        }
+        // Only environments: nothing to choose without them; none at all: no choice.
+        let only = LightSampler::with_uniform_envs(&[1.0, 0.0], &[true, false]);
+        assert!(only.sample_for(0.3, true).is_none());
+        assert_eq!(only.pmf_for(0, true), 0.0);
+        assert_eq!(
+            only.sample_lanes_for::<f32>(0.3, true).map(|x| x.1),
+            Some(0.0)
+        );
+        let plain = LightSampler::new(&[1.0, 2.0]);
+        assert!(!plain.has_uniform_env());
+        assert_eq!(plain.sample_for(0.7, true), plain.sample(0.7));
     }
 }

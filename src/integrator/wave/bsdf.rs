@@ -119,6 +119,12 @@ impl<F: Float> LaneBsdf<F> {
     }
 
     /// Lanes with a lobe that `f` and `pdf` evaluate (not only Dirac deltas).
+    /// The lanes whose BSDF is glossy (the rough conductor).
+    #[inline(always)]
+    pub fn glossy(&self) -> F::M {
+        self.rough
+    }
+
     #[inline(always)]
     pub fn non_specular(&self) -> F::M {
         self.diffuse | self.rough

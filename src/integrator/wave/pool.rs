@@ -48,6 +48,8 @@ pub(super) struct Pool {
     pub d65: Spectra,
     pub eta_scale: Col<f32>,
     pub prev_pdf: Col<f32>,
+    /// [`PathState::env_by_bsdf`] (1: true).
+    pub env_by_bsdf: Col<u32>,
     pub path_length: Col<f32>,
     pub specular: Col<u32>,
     pub depth: Col<u32>,
@@ -94,6 +96,7 @@ impl Pool {
             d65: spectra(),
             eta_scale: col(0.0),
             prev_pdf: col(0.0),
+            env_by_bsdf: col(0),
             path_length: col(0.0),
             specular: col(0),
             depth: col(0),
@@ -209,6 +212,7 @@ impl Pool {
             eta_scale: self.eta_scale[i],
             specular_bounce: self.specular[i] != 0,
             prev_pdf: self.prev_pdf[i],
+            env_by_bsdf: self.env_by_bsdf[i] != 0,
             prev_ctx: LightSampleContext {
                 p: v(&self.prev_p),
                 n: v(&self.prev_n),
@@ -235,6 +239,7 @@ impl Pool {
         self.eta_scale[i] = p.eta_scale;
         self.specular[i] = p.specular_bounce as u32;
         self.prev_pdf[i] = p.prev_pdf;
+        self.env_by_bsdf[i] = p.env_by_bsdf as u32;
         self.depth[i] = p.depth;
         self.null_crossings[i] = p.null_crossings;
         self.path_length[i] = p.path_length;
@@ -263,6 +268,7 @@ impl Pool {
             self.t_max,
             self.eta_scale,
             self.prev_pdf,
+            self.env_by_bsdf,
             self.path_length,
             self.specular,
             self.depth,

@@ -94,6 +94,9 @@ pub struct Program {
     pub(super) light_lanes: Vec<u32>,
     /// Per light: the probability of choosing it.
     pub(super) light_pmf: Vec<f32>,
+    /// Per light: the probability of choosing it at a vertex that leaves uniform environments
+    /// to its BSDF ([`crate::light::LightSampler::pmf_for`]).
+    pub(super) light_pmf_no_env: Vec<f32>,
     /// Per light: its radiance spectrum entry (lane lights only).
     pub(super) light_spec: Vec<u32>,
     /// Per light: 1 / area of its shape (lane lights only).
@@ -117,6 +120,9 @@ impl Program {
         let mut light_shape = vec![0; n_lights];
         let mut light_flip = vec![0; n_lights];
         let light_pmf: Vec<f32> = (0..n_lights).map(|i| scene.light_sampler.pmf(i)).collect();
+        let mut light_pmf_no_env: Vec<f32> = (0..n_lights)
+            .map(|i| scene.light_sampler.pmf_for(i, true))
+            .collect();
         for (i, light) in scene.lights.iter().enumerate() {
             let Light::Area(a) = light else { continue };
             let Some(Shape::Mesh(m)) = scene.shapes.get(a.shape as usize) else {
@@ -161,6 +167,7 @@ impl Program {
         if n_lights == 0 {
             light_lanes.push(0);
             light_pmf.push(0.0);
+            light_pmf_no_env.push(0.0);
             light_spec.push(0);
             light_inv_area.push(0.0);
             light_shape.push(0);
@@ -174,6 +181,7 @@ impl Program {
             mats,
             light_lanes,
             light_pmf,
+            light_pmf_no_env,
             light_spec,
             light_inv_area,
             light_shape,

@@ -329,7 +329,13 @@ fn vector_vertex<F: Float>(
                 let prev_p = load3::<F>(&pool.prev_p, base);
                 let pdf_li =
                     area_to_solid_angle_lanes(lights.f(&prog.light_inv_area), prev_p, p, ng);
-                power_heuristic_lanes(prev_pdf, lights.f(&prog.light_pmf) * pdf_li)
+                let no_env = F::I::load_at(&pool.env_by_bsdf[..], base).eq(F::I::splat(1));
+                let pmf = F::select(
+                    no_env,
+                    lights.f(&prog.light_pmf_no_env),
+                    lights.f(&prog.light_pmf),
+                );
+                power_heuristic_lanes(prev_pdf, pmf * pdf_li)
             };
             let w = F::select(specular, one, w);
             for k in 0..4 {
@@ -354,10 +360,27 @@ fn vector_vertex<F: Float>(
     let u0 = draw::<F>(pool, base, alive, c.kind);
     let u1 = draw::<F>(pool, base, alive, c.kind);
     let nee = alive & bsdf.non_specular();
+    // [`PathState::scatter`]'s `env_by_bsdf`: of the lane BSDFs, the rough conductor.
+    let env_by_bsdf = if cfg.leaves_env_to_bsdf(c.scene) {
+        nee & bsdf.glossy()
+    } else {
+        F::M::splat(false)
+    };
     if cfg.use_nee && nee.any() {
         let wl_pdf = load_spec::<F>(&pool.wl_pdf, base);
         let ls = sample_lights(
-            c, nee, p, ng, u_light, u0, u1, &lambda, &wl_pdf, &d65, scratch,
+            c,
+            nee,
+            env_by_bsdf,
+            p,
+            ng,
+            u_light,
+            u0,
+            u1,
+            &lambda,
+            &wl_pdf,
+            &d65,
+            scratch,
         );
         let wi_l = frame.to_local(ls.wi);
         let (f, bsdf_pdf) = bsdf.f_pdf(wo_l, wi_l);
@@ -411,6 +434,8 @@ fn vector_vertex<F: Float>(
     let eta_scale = F::select(bs.transmission, eta_scale * (bs.eta * bs.eta), eta_scale);
     store_masked(&mut pool.eta_scale[..], base, alive, eta_scale);
     store_masked(&mut pool.prev_pdf[..], base, alive, bs.pdf);
+    let env_i = F::I::select(env_by_bsdf, F::I::splat(1), F::I::splat(0));
+    store_masked_int::<F>(&mut pool.env_by_bsdf[..], base, alive, env_i);
     store_masked_int::<F>(&mut pool.specular[..], base, alive, specular_i);
     store3_masked(&mut pool.prev_p, base, alive, p);
     store3_masked(&mut pool.prev_n, base, alive, ng);
@@ -451,6 +476,7 @@ fn vector_vertex<F: Float>(
 fn sample_lights<F: Float>(
     c: &Ctx,
     m: F::M,
+    no_env: F::M,
     p: V3<F>,
     ng: V3<F>,
     u_light: F,
@@ -472,9 +498,12 @@ fn sample_lights<F: Float>(
         delta: F::M::splat(false),
         pmf: zero,
     };
-    let Some((chosen, pmf)) = scene.light_sampler.sample_lanes(u_light) else {
+    let Some((chosen, pmf)) = scene.light_sampler.sample_lanes_for(u_light, no_env) else {
         return no_sample;
     };
+    // Lanes left with nothing to choose (only uniform environments, all left out) take no
+    // sample, as the scalar `sample_for` returns none.
+    let m = m & pmf.gt(zero);
     // Per lane: what depends on the chosen light's own tables.
     let light = &mut scratch.light_index;
     chosen.store(light);

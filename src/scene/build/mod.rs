@@ -248,7 +248,12 @@ fn build_scene(
         .map(|(i, _)| i as u32)
         .collect();
     let powers: Vec<f32> = b.lights.iter().map(|l| l.power(&b.shapes)).collect();
-    let light_sampler = LightSampler::new(&powers);
+    let uniform: Vec<bool> = b
+        .lights
+        .iter()
+        .map(|l| matches!(l, Light::Constant(_)))
+        .collect();
+    let light_sampler = LightSampler::with_uniform_envs(&powers, &uniform);
     if b.lights.is_empty() {
         b.warn(root, "the scene has no emitters: the image will be black");
     }
