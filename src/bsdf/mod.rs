@@ -261,19 +261,22 @@ impl Bxdf {
 
     /// Whether this BSDF's own samples should carry the light of uniform environments alone,
     /// without light samples ([`crate::light::LightSampler::sample_for`]; measurements in
-    /// [`crate::integrator::path`]'s notes): true for the BSDFs with a glossy or delta lobe
-    /// that sample f · cos closely and choose their lobes in proportion to their albedos (rough
-    /// conductors, dielectrics, films and stacks, the plastics, closed-form coats); false for
-    /// the Lambertian surface, whose cosine-distributed light samples are as good as its own
-    /// and add a second look at the sky's visibility, and for the random walk, whose own
+    /// [`crate::integrator::path`]'s notes), where `other_lights` says whether next-event
+    /// estimation has other lights to choose. True for the BSDFs with a glossy or delta lobe
+    /// that sample f · cos closely and choose their lobes in proportion to their albedos
+    /// (rough conductors, dielectrics, films and stacks, the plastics, closed-form coats); for
+    /// the Lambertian surface only beside other lights (its cosine samples carry the sky as
+    /// well as cosine light samples do, which are better spent on a sun or a lamp; with the sky
+    /// alone they are a second look at its visibility); never for the random walk, whose own
     /// samples are noisy.
-    pub fn samples_uniform_env(&self) -> bool {
+    pub fn samples_uniform_env(&self, other_lights: bool) -> bool {
         match self {
             Bxdf::RoughDielectric(_)
             | Bxdf::RoughConductor(_)
             | Bxdf::RoughThinFilm(_)
             | Bxdf::RoughFilmStack(_)
             | Bxdf::Plastic(_) => true,
+            Bxdf::Diffuse(_) => other_lights,
             Bxdf::Layered(b) => matches!(b.model, layered::LayeredModel::Closed(_)),
             _ => false,
         }
@@ -420,8 +423,8 @@ impl Bsdf {
     }
 
     /// [`Bxdf::samples_uniform_env`].
-    pub fn samples_uniform_env(&self) -> bool {
-        self.bxdf.samples_uniform_env()
+    pub fn samples_uniform_env(&self, other_lights: bool) -> bool {
+        self.bxdf.samples_uniform_env(other_lights)
     }
 
     /// BSDF value for world-space directions.

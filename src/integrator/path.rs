@@ -24,21 +24,25 @@
 //! Mitsuba's integrators that ophis does not have (`volpath`, `prb`, `ptracer`, 0.6's `bdpt`,
 //! `sppm`, …) render as this one, reading these parameters, with a warning.
 //!
-//! ## Uniform environments and glossy BSDFs
+//! ## Uniform environments and the BSDF's own samples
 //!
 //! Next-event estimation chooses one light per vertex ([`crate::light::LightSampler`]); a
-//! `constant` environment is sampled about the surface normal, which suits a Lambertian
-//! surface. At a vertex whose BSDF has a glossy or delta lobe and samples f · cos closely
-//! ([`crate::bsdf::Bxdf::samples_uniform_env`]: rough conductors, dielectrics and films, the
-//! plastics, the closed-form coats) the BSDF's own samples carry a uniform environment with
-//! little variance: they are drawn in proportion to f · cos, their lobe chosen in proportion
-//! to its albedo. Light samples weighted against them by MIS only move part of the diffuse
-//! lobe's share onto rarer samples, which unbalances that lobe choice, and they take light
-//! samples from a sun beside the sky. Such a vertex therefore chooses among the other lights
-//! only (the same choice conditioned on not picking a uniform environment), a BSDF sample
-//! from it that escapes to a uniform environment has MIS weight 1, and an area light it hits
-//! is weighted with the conditional choice's probability, which [`PathState::env_by_bsdf`]
-//! remembers. Only with both techniques in use (`--strategy mis`).
+//! `constant` environment is sampled about the surface normal. At a vertex whose BSDF has a
+//! glossy or delta lobe and samples f · cos closely ([`crate::bsdf::Bxdf::samples_uniform_env`]:
+//! rough conductors, dielectrics and films, the plastics, the closed-form coats) the BSDF's own
+//! samples carry a uniform environment with little variance: they are drawn in proportion to
+//! f · cos, their lobe chosen in proportion to its albedo. Light samples weighted against them
+//! by MIS only move part of the diffuse lobe's share onto rarer samples, which unbalances that
+//! lobe choice, and they take light samples from a sun beside the sky. A Lambertian surface's
+//! cosine samples carry the sky as well as the light's cosine samples do; beside other lights
+//! those light samples are better spent on them (a sun or a lamp is reached best, or only, by
+//! light samples), while with the sky alone they are a second look at its visibility and
+//! stay. Such a vertex therefore chooses among the other lights only (the same choice
+//! conditioned on not picking a uniform environment), a BSDF sample from it that escapes to a
+//! uniform environment has MIS weight 1, and an area light it hits is weighted with the
+//! conditional choice's probability, which [`PathState::env_by_bsdf`] remembers. Only with both
+//! techniques in use (`--strategy mis`). The random walk's own samples are noisy: it keeps
+//! choosing the sky.
 //!
 //! Measured (`bench/noise.py` against the build before, 96², 64 spp, Sobol, 2 pairs; noise
 //! per sample before → after, and the speed-up at equal noise, which counts the light
@@ -46,12 +50,14 @@
 //! grey sky and sun) with the smooth film coat 0.00079 → 0.00014 (6.6×), with the rough coat
 //! in closed form 0.0043 → 0.0023 (2.1×); over a base of albedo 0.5, 0.0026 → 0.00018 (17×)
 //! and 0.0052 → 0.0019 (2.8×); an isolated `plastic` sphere (diffuse 0.5) 0.0015 → 0.00052
-//! (2.9×), `roughplastic` 0.0021 → 0.0010 (2.1×). It costs noise where a sky alone lights a
-//! diffuse-heavy plastic that its surroundings occlude (a plastic sphere on a plastic ground,
-//! no sun: 0.017 → 0.022), the light sample having been a second look at the sky's
-//! visibility, but the time saved still leaves it ahead (1.08×; with a sun, 1.28×). A
-//! Lambertian surface keeps choosing the sky (the same experiment lost 1.2× at equal noise
-//! there), and so does the random walk, whose own samples are noisy.
+//! (2.9×), `roughplastic` 0.0021 → 0.0010 (2.1×), `diffuse` 0.0012 → 0.00024 (5.3×); a
+//! diffuse sphere on a diffuse ground under sky and sun 0.0097 → 0.0057 (1.8×; 2.5× with
+//! independent samples), level with a sun 7 or 40 times dimmer (1.01×) and unchanged without
+//! one. It costs noise where a sky alone lights a diffuse-heavy plastic that its surroundings
+//! occlude (a plastic sphere on a plastic ground, no sun: 0.017 → 0.022), the light sample
+//! having been a second look at the sky's visibility, but the time saved still leaves it ahead
+//! (1.08×); the same scene with Lambertian surfaces would lose 1.2×, which is why they keep
+//! the sky's light samples when it is the only light.
 //!
 //! Known limits: no participating media outside `multilayered`.
 
@@ -266,8 +272,9 @@ impl PathState {
         let u_light = sampler.get_1d();
         let u = sampler.get_2d();
         let mut shadow = None;
-        let env_by_bsdf =
-            cfg.leaves_env_to_bsdf(scene) && flags.is_non_specular() && bsdf.samples_uniform_env();
+        let env_by_bsdf = cfg.leaves_env_to_bsdf(scene)
+            && flags.is_non_specular()
+            && bsdf.samples_uniform_env(scene.light_sampler.has_other_lights());
         if cfg.use_nee && flags.is_non_specular() {
             let ctx = LightSampleContext { p: si.p, n: si.ng };
             if let Some((li, pmf)) = scene.light_sampler.sample_for(u_light, env_by_bsdf) {

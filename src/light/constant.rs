@@ -10,9 +10,10 @@
 //! Sampling: with a normal at the shading point, a defensive mixture (Hesterberg 1995) of 90 %
 //! cosine-weighted hemisphere about the normal and 10 % uniform sphere, so that a diffuse surface
 //! gets nearly zero variance while every direction (e.g. through a transmissive surface) keeps a
-//! positive density; without a normal, the uniform sphere. Vertices whose BSDF is mostly glossy
-//! or delta leave this light to their BSDF samples and do not choose it for next-event
-//! estimation (see [`crate::integrator::path`]).
+//! positive density; without a normal, the uniform sphere. Vertices whose BSDF is glossy, a
+//! plastic or a closed-form coat (and Lambertian ones beside other lights) leave this light to
+//! their BSDF samples and do not choose it for next-event estimation (see
+//! [`crate::integrator::path`]).
 //!
 //! Known limits: the visibility point is placed beyond the scene's bounding sphere, so
 //! [`super::Light::preprocess`] must be called first.

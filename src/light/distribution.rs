@@ -250,6 +250,11 @@ impl LightSampler {
         self.uniform_env.iter().any(|&u| u)
     }
 
+    /// Whether some light besides the uniform environments can be chosen.
+    pub fn has_other_lights(&self) -> bool {
+        self.without_env.is_some()
+    }
+
     /// Whether light `i` is a uniform environment.
     pub(crate) fn is_uniform_env(&self, i: usize) -> bool {
         self.uniform_env.get(i).copied().unwrap_or(false)

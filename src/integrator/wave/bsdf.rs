@@ -125,6 +125,12 @@ impl<F: Float> LaneBsdf<F> {
         self.rough
     }
 
+    /// The lanes whose BSDF is Lambertian.
+    #[inline(always)]
+    pub fn lambertian(&self) -> F::M {
+        self.diffuse
+    }
+
     #[inline(always)]
     pub fn non_specular(&self) -> F::M {
         self.diffuse | self.rough

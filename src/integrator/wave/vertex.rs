@@ -360,9 +360,14 @@ fn vector_vertex<F: Float>(
     let u0 = draw::<F>(pool, base, alive, c.kind);
     let u1 = draw::<F>(pool, base, alive, c.kind);
     let nee = alive & bsdf.non_specular();
-    // [`PathState::scatter`]'s `env_by_bsdf`: of the lane BSDFs, the rough conductor.
+    // [`PathState::scatter`]'s `env_by_bsdf`: of the lane BSDFs, the rough conductor, and the
+    // Lambertian one beside other lights.
     let env_by_bsdf = if cfg.leaves_env_to_bsdf(c.scene) {
-        nee & bsdf.glossy()
+        if c.scene.light_sampler.has_other_lights() {
+            nee & (bsdf.glossy() | bsdf.lambertian())
+        } else {
+            nee & bsdf.glossy()
+        }
     } else {
         F::M::splat(false)
     };
