@@ -55,6 +55,7 @@ macro_rules! spec {
 mod bsdf;
 mod ends;
 mod lookup;
+mod nee;
 mod pool;
 pub mod program;
 mod surface;
