@@ -95,6 +95,13 @@ pub struct PathConfig {
     pub(crate) strategy: PathStrategy,
     pub(crate) use_nee: bool,
     pub(crate) use_bsdf_hits: bool,
+    /// Whether vertices whose BSDF samples uniform environments well
+    /// ([`crate::bsdf::Bsdf::samples_uniform_env`]) leave those lights out of their light
+    /// choice: with both techniques in use and such a light in the scene.
+    pub(crate) env_to_bsdf: bool,
+    /// Whether next-event estimation has lights besides the uniform environments to choose
+    /// ([`crate::light::LightSampler::has_other_lights`]).
+    pub(crate) other_lights: bool,
 }
 
 impl PathConfig {
@@ -108,15 +115,9 @@ impl PathConfig {
             strategy,
             use_nee: strategy != PathStrategy::BsdfOnly,
             use_bsdf_hits: strategy != PathStrategy::LightOnly,
+            env_to_bsdf: strategy == PathStrategy::Mis && scene.light_sampler.has_uniform_env(),
+            other_lights: scene.light_sampler.has_other_lights(),
         }
-    }
-
-    /// Whether vertices whose BSDF samples uniform environments well
-    /// ([`crate::bsdf::Bsdf::samples_uniform_env`]) leave those lights out of their light
-    /// choice: with both techniques in use and such a light in the scene.
-    #[inline]
-    pub(crate) fn leaves_env_to_bsdf(&self, scene: &Scene) -> bool {
-        self.use_nee && self.use_bsdf_hits && scene.light_sampler.has_uniform_env()
     }
 }
 
@@ -272,9 +273,9 @@ impl PathState {
         let u_light = sampler.get_1d();
         let u = sampler.get_2d();
         let mut shadow = None;
-        let env_by_bsdf = cfg.leaves_env_to_bsdf(scene)
+        let env_by_bsdf = cfg.env_to_bsdf
             && flags.is_non_specular()
-            && bsdf.samples_uniform_env(scene.light_sampler.has_other_lights());
+            && bsdf.samples_uniform_env(cfg.other_lights);
         if cfg.use_nee && flags.is_non_specular() {
             let ctx = LightSampleContext { p: si.p, n: si.ng };
             if let Some((li, pmf)) = scene.light_sampler.sample_for(u_light, env_by_bsdf) {

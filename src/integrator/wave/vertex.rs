@@ -349,8 +349,8 @@ fn vector_vertex<F: Float>(
     let nee = alive & bsdf.non_specular();
     // [`PathState::scatter`]'s `env_by_bsdf`: of the lane BSDFs, the rough conductor, and the
     // Lambertian one beside other lights.
-    let env_by_bsdf = if cfg.leaves_env_to_bsdf(c.scene) {
-        if c.scene.light_sampler.has_other_lights() {
+    let env_by_bsdf = if cfg.env_to_bsdf {
+        if cfg.other_lights {
             nee & (bsdf.glossy() | bsdf.lambertian())
         } else {
             nee & bsdf.glossy()
