@@ -173,8 +173,9 @@ pub fn radiance(
 
     if flags.is_non_specular() {
         for _ in 0..n {
-            let u_light = sampler.get_1d();
+            sampler.start_set();
             let u = sampler.get_2d();
+            let u_light = sampler.get_1d();
             let Some((li, pmf)) = scene.light_sampler.sample(u_light) else {
                 break;
             };
@@ -200,8 +201,9 @@ pub fn radiance(
     }
 
     for _ in 0..m {
-        let uc = sampler.get_1d();
+        sampler.start_set();
         let u = sampler.get_2d();
+        let uc = sampler.get_1d();
         let Some(bs) = bsdf.sample_f(wo, uc, u, TransportMode::Radiance) else {
             continue;
         };

@@ -268,10 +268,11 @@ impl PathState {
             return (false, None);
         }
 
-        // Next-event estimation. The light sample's dimensions are drawn at every vertex so
-        // that later bounces use the same sampler dimensions whatever the material.
-        let u_light = sampler.get_1d();
+        // Next-event estimation. The light sample's set of dimensions (its 2D point, then the
+        // light choice) is drawn at every vertex, used or not.
+        sampler.start_set();
         let u = sampler.get_2d();
+        let u_light = sampler.get_1d();
         let mut shadow = None;
         let env_by_bsdf = cfg.env_to_bsdf
             && flags.is_non_specular()
@@ -302,9 +303,10 @@ impl PathState {
             }
         }
 
-        // BSDF sampling.
-        let uc = sampler.get_1d();
+        // BSDF sampling: the set's 2D point, the lobe choice, and (below) Russian roulette.
+        sampler.start_set();
         let u = sampler.get_2d();
+        let uc = sampler.get_1d();
         let Some(bs) = bsdf.sample_f(wo, uc, u, TransportMode::Radiance) else {
             return (false, shadow);
         };

@@ -13,8 +13,11 @@
 //! | `sample_count` (0.6: `sampleCount`) | integer | 4 | — | samples per pixel (the command line's `--spp` overrides it); between 1 and 16777216 |
 //! | `seed` | integer | 0 | — | seed of the random sequence (the command line's `--seed` overrides it); non-negative |
 //!
-//! Known limits: the sequence has 256 dimensions and 2¹⁶ samples per pixel; beyond either,
-//! samples continue as independent ones (see `sampler/mod.rs`). Mitsuba's `jitter`, `strength`
+//! A path's dimensions come in sets of four (see `sampler/mod.rs`): the camera's and the first
+//! vertex's are dimensions of one sequence chosen for well-stratified 2D pairs, later sets are
+//! padded (each the sequence's first four dimensions with its own scramble), so deep paths keep
+//! stratified samples. Known limits: 2¹⁶ samples per pixel; beyond that, samples continue as
+//! independent ones. Mitsuba's `jitter`, `strength`
 //! and `dimension` are not read.
 
 use super::SamplerKind;

@@ -48,23 +48,27 @@ pub(super) fn start<F: Float>(
         let pixel = job / jobs.spp;
         let (x, y) = (jobs.x0 + pixel % jobs.width, jobs.y0 + pixel / jobs.width);
         let mut st = SamplerState::start(scene.sampler.seed, x, y, jobs.s0 + job % jobs.spp);
-        for row in u.iter_mut().take(if lens { 5 } else { 3 }) {
+        // As `render::render_tile`: filter offset and lens point (rows 0–3), then the
+        // wavelengths (row 4) from the next set.
+        for row in u.iter_mut().take(if lens { 4 } else { 2 }) {
             row[i] = st.next_1d(kind);
         }
+        st.start_set();
+        u[4][i] = st.next_1d(kind);
         pool.set_sampler_state(base + i, &st);
         pool.job[base + i] = job;
         px[0][i] = x as f32 + 0.5;
         px[1][i] = y as f32 + 0.5;
     }
     jobs.next += k as u32;
-    let (lambda, pdf) = SampledWavelengths::sample_visible_lanes(F::load(&u[0]));
+    let (lambda, pdf) = SampledWavelengths::sample_visible_lanes(F::load(&u[4]));
     for j in 0..4 {
         lambda[j].store_at(&mut pool.lambda[j][..], base);
         pdf[j].store_at(&mut pool.wl_pdf[j][..], base);
         d65_lanes(lambda[j]).store_at(&mut pool.d65[j][..], base);
     }
-    let ox = scene.filter.sample_1d_lanes(F::load(&u[1]));
-    let oy = scene.filter.sample_1d_lanes(F::load(&u[2]));
+    let ox = scene.filter.sample_1d_lanes(F::load(&u[0]));
+    let oy = scene.filter.sample_1d_lanes(F::load(&u[1]));
     let fx = (F::load(&px[0]) + ox) * F::splat(1.0 / scene.width as f32);
     let fy = (F::load(&px[1]) + oy) * F::splat(1.0 / scene.height as f32);
     let (o, d, t_max) = match &scene.camera {
@@ -74,7 +78,7 @@ pub(super) fn start<F: Float>(
             let mut r = [[0.0f32; 16]; 7];
             for i in 0..k {
                 let lens = if lens {
-                    Vec2::new(u[3][i], u[4][i])
+                    Vec2::new(u[2][i], u[3][i])
                 } else {
                     Vec2::splat(0.5)
                 };

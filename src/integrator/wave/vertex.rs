@@ -153,6 +153,15 @@ fn draw<F: Float>(pool: &mut Pool, base: usize, m: F::M, kind: SamplerKind) -> F
     F::load(&u)
 }
 
+/// [`crate::sampler::SamplerState::start_set`] for the lanes in `m`: each skips to its next set of four
+/// dimensions. (The Sobol cache in a lane's state is rebuilt on its next draw either way.)
+#[inline(always)]
+fn start_set<F: Float>(pool: &mut Pool, base: usize, m: F::M) {
+    let dim = F::I::load_at(&pool.dim[..], base);
+    let up = (dim + F::I::splat(3)) & F::I::splat(!3);
+    store_masked_int::<F>(&mut pool.dim[..], base, m, up);
+}
+
 /// Table spectra at the lanes' wavelengths ([`crate::spectrum::Spectrum::sample`]), for the
 /// lanes of `m` (the others are 0); `d65` is D65 at those wavelengths.
 #[inline(always)]
@@ -342,10 +351,11 @@ fn vector_vertex<F: Float>(
     alive = alive.and_not(bsdf.none());
     let wo_l = frame.to_local(wo);
 
-    // Next-event estimation. The light sample's dimensions are drawn at every vertex.
-    let u_light = draw::<F>(pool, base, alive, c.kind);
+    // Next-event estimation. The light sample's set of dimensions is drawn at every vertex.
+    start_set::<F>(pool, base, alive);
     let u0 = draw::<F>(pool, base, alive, c.kind);
     let u1 = draw::<F>(pool, base, alive, c.kind);
+    let u_light = draw::<F>(pool, base, alive, c.kind);
     let nee = alive & bsdf.non_specular();
     // [`PathState::scatter`]'s `env_by_bsdf`: of the lane BSDFs, the rough conductor, and the
     // Lambertian one beside other lights.
@@ -409,10 +419,11 @@ fn vector_vertex<F: Float>(
         }
     }
 
-    // BSDF sampling.
-    let uc = draw::<F>(pool, base, alive, c.kind);
+    // BSDF sampling (its set: 2D point, lobe choice, Russian roulette).
+    start_set::<F>(pool, base, alive);
     let u0 = draw::<F>(pool, base, alive, c.kind);
     let u1 = draw::<F>(pool, base, alive, c.kind);
+    let uc = draw::<F>(pool, base, alive, c.kind);
     let bs = bsdf.sample(alive, wo_l, uc, u0, u1);
     alive = alive & bs.ok;
     let wi = frame.to_world(bs.wi);
