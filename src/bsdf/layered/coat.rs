@@ -1,10 +1,8 @@
 //! The coat of a coated diffuse stack: its reflectance at the path's wavelengths — a bare
 //! dielectric (Fresnel), or a dielectric under a thin film, whose Airy sum runs for the four
-//! wavelengths in one pass of 4-lane arithmetic ([`crate::optics::thinfilm::film_r4`]) and is
-//! remembered per thread for the last four (coat, cosine, side), since the BSDF asks the same
-//! angles in `f`, `pdf` and `sample_f` (the memo is borrowed in place and its keys compared
-//! whole: copying it cost 10 %). The integrals of its internal reflections are in
-//! `integrals.rs`.
+//! wavelengths in one pass of 4-lane arithmetic ([`crate::optics::thinfilm::film_r4`]; the
+//! BSDF remembers its last answers, `CoatedDiffuse::outside`). The integrals of its internal
+//! reflections are in `integrals.rs`.
 
 use crate::bsdf::fresnel::fresnel_dielectric;
 use crate::optics::thinfilm::film_r4;
@@ -50,50 +48,8 @@ impl CoatOptics {
             CoatOptics::Dielectric { eta } => {
                 SampledSpectrum::splat(fresnel_dielectric(if inside { -mu } else { mu }, eta))
             }
-            CoatOptics::Film { .. } => self.film_memo(mu, inside),
+            CoatOptics::Film { .. } => self.film(mu, inside),
         }
-    }
-
-    /// A film coat's reflectance, remembered: the BSDF asks for the coat at μo and μi (and a
-    /// rough coat at wo·wm) in `f`, again in `pdf` and in `sample_f`, so each thread keeps its
-    /// last four answers with the coat, cosine and side they were for, compared bit for bit
-    /// (an answer is a pure function of those, so a remembered one is the one
-    /// [`CoatOptics::film`] would give).
-    fn film_memo(&self, mu: f32, inside: bool) -> SampledSpectrum {
-        type Key = [u32; 4 + 2 * N];
-        /// Keys, answers, and the slot the next answer takes. An unused slot's key is all
-        /// ones, which no coat makes (its side word is 0 or 1).
-        struct Memo {
-            keys: [Key; 4],
-            answers: [SampledSpectrum; 4],
-            next: usize,
-        }
-        thread_local! {
-            // Borrowed in place: a `Cell` would copy it all in and out on every call.
-            static LAST: std::cell::RefCell<Memo> = const {
-                std::cell::RefCell::new(Memo {
-                    keys: [[u32::MAX; 4 + 2 * N]; 4],
-                    answers: [SampledSpectrum([0.0; N]); 4],
-                    next: 0,
-                })
-            };
-        }
-        let key = self.film_key(mu, inside);
-        LAST.with(|last| {
-            let mut last = last.borrow_mut();
-            // Each key compared whole, by folding the differences (no early exit, no memcmp).
-            for (k, answer) in last.keys.iter().zip(&last.answers) {
-                if k.iter().zip(&key).fold(0, |d, (a, b)| d | (a ^ b)) == 0 {
-                    return *answer;
-                }
-            }
-            let answer = self.film(mu, inside);
-            let slot = last.next;
-            last.keys[slot] = key;
-            last.answers[slot] = answer;
-            last.next = (slot + 1) % 4;
-            answer
-        })
     }
 
     /// A film coat's η, film indices, thickness and wavelengths.
@@ -107,22 +63,6 @@ impl CoatOptics {
             } => (eta, film_ior, thickness_nm, lambda),
             CoatOptics::Dielectric { .. } => unreachable!("called for film coats only"),
         }
-    }
-
-    /// The bits a film coat's answer depends on: η, thickness, the side and cosine, and the
-    /// film index and wavelength of each lane.
-    fn film_key(&self, mu: f32, inside: bool) -> [u32; 4 + 2 * N] {
-        let (eta, film_ior, thickness_nm, lambda) = self.film_parts();
-        let mut k = [0u32; 4 + 2 * N];
-        k[0] = eta.to_bits();
-        k[1] = thickness_nm.to_bits();
-        k[2] = mu.to_bits();
-        k[3] = inside as u32;
-        for i in 0..N {
-            k[4 + i] = film_ior[i].to_bits();
-            k[4 + N + i] = lambda[i].to_bits();
-        }
-        k
     }
 
     /// A film coat's reflectance at the four wavelengths in one pass of 4-lane arithmetic
