@@ -153,6 +153,25 @@ fn draw<F: Float>(pool: &mut Pool, base: usize, m: F::M, kind: SamplerKind) -> F
     F::load(&u)
 }
 
+/// The next three sampler values of each lane in `m` (others 0), as three [`draw`]s give
+/// them; for Sobol samples each lane's state is rebuilt once for the three, so values from
+/// one set of the sequence are computed once.
+#[inline(always)]
+fn draw3<F: Float>(pool: &mut Pool, base: usize, m: F::M, kind: SamplerKind) -> [F; 3] {
+    if kind == SamplerKind::Independent {
+        return std::array::from_fn(|_| draw::<F>(pool, base, m, kind));
+    }
+    let mut u = [[0.0f32; 16]; 3];
+    for i in lanes(m.bits()) {
+        let mut st = pool.sampler_state(base + i);
+        for row in &mut u {
+            row[i] = st.next_1d(kind);
+        }
+        pool.set_sampler_state(base + i, &st);
+    }
+    u.map(|row| F::load(&row))
+}
+
 /// [`crate::sampler::SamplerState::start_set`] for the lanes in `m`: each skips to its next set of four
 /// dimensions. (The Sobol cache in a lane's state is rebuilt on its next draw either way.)
 #[inline(always)]
@@ -353,9 +372,7 @@ fn vector_vertex<F: Float>(
 
     // Next-event estimation. The light sample's set of dimensions is drawn at every vertex.
     start_set::<F>(pool, base, alive);
-    let u0 = draw::<F>(pool, base, alive, c.kind);
-    let u1 = draw::<F>(pool, base, alive, c.kind);
-    let u_light = draw::<F>(pool, base, alive, c.kind);
+    let [u0, u1, u_light] = draw3::<F>(pool, base, alive, c.kind);
     let nee = alive & bsdf.non_specular();
     // [`PathState::scatter`]'s `env_by_bsdf`: of the lane BSDFs, the rough conductor, and the
     // Lambertian one beside other lights.
@@ -421,9 +438,7 @@ fn vector_vertex<F: Float>(
 
     // BSDF sampling (its set: 2D point, lobe choice, Russian roulette).
     start_set::<F>(pool, base, alive);
-    let u0 = draw::<F>(pool, base, alive, c.kind);
-    let u1 = draw::<F>(pool, base, alive, c.kind);
-    let uc = draw::<F>(pool, base, alive, c.kind);
+    let [u0, u1, uc] = draw3::<F>(pool, base, alive, c.kind);
     let bs = bsdf.sample(alive, wo_l, uc, u0, u1);
     alive = alive & bs.ok;
     let wi = frame.to_world(bs.wi);
