@@ -65,28 +65,16 @@ pub struct CoatedDiffuse {
     pub k_norm: f32,
     /// A rough coat's microfacets (`None`: smooth). See [`CoatedDiffuse::with_rough`].
     pub rough: Option<MicrofacetDistribution>,
-    /// A film coat's reflectance at the last cosines asked (see [`CoatedDiffuse::outside`]).
-    memo: OutsideMemo,
+    /// A film coat's reflectance at the first cosine asked (see [`CoatedDiffuse::outside`]).
+    memo: FirstAnswer,
 }
 
-/// The last four (cosine, reflectance) pairs of one BSDF instance, slot by slot in cells so a
-/// lookup copies one answer, not the memo. An unused slot's cosine bits are all ones, a NaN
-/// no caller asks about.
+/// One remembered (cosine, reflectance) pair, in cells. Its cosine's bits are all ones while
+/// empty, a NaN no caller asks about.
 #[derive(Clone, Debug)]
-struct OutsideMemo {
-    mu: [Cell<u32>; 4],
-    r: [Cell<SampledSpectrum>; 4],
-    next: Cell<usize>,
-}
-
-impl OutsideMemo {
-    fn new() -> OutsideMemo {
-        OutsideMemo {
-            mu: std::array::from_fn(|_| Cell::new(u32::MAX)),
-            r: std::array::from_fn(|_| Cell::new(SampledSpectrum::ZERO)),
-            next: Cell::new(0),
-        }
-    }
+struct FirstAnswer {
+    mu: Cell<u32>,
+    r: Cell<SampledSpectrum>,
 }
 
 impl CoatedDiffuse {
@@ -138,33 +126,34 @@ impl CoatedDiffuse {
             ret,
             k_norm,
             rough: None,
-            memo: OutsideMemo::new(),
+            memo: FirstAnswer {
+                mu: Cell::new(u32::MAX),
+                r: Cell::new(SampledSpectrum::ZERO),
+            },
         }
     }
 
-    /// The coat's reflectance for light from outside at cosine `mu`. A film coat's is
-    /// remembered for the last four cosines this instance was asked: at one vertex `f` (for
-    /// the light sample), `sample_f`, and the `pdf` and `f` inside it ask μo in every call and
-    /// μi and wo·wm twice, and each film answer is four Airy sums. (Per instance rather than
-    /// per thread: the thread-local memo's keys — coat, wavelengths, cosine — cost 7 % of a
-    /// render of the thin-film benchmark sphere to build and compare.)
+    /// The coat's reflectance for light from outside at cosine `mu`. A film coat's answer
+    /// (four Airy sums) at the first cosine this instance is asked is remembered: every call
+    /// at a vertex — `f` for the light sample, `sample_f`, `pdf` for MIS — asks μo first, and
+    /// `sample_f` passes its other answers on to the value and density it computes
+    /// (`f_with`, `pdf_with`). One slot, so the BSDF (inline in [`crate::bsdf::Bxdf`], copied
+    /// at every vertex) stays as small as it was; a thread-local memo keyed by coat,
+    /// wavelengths and cosine cost 7 % of a render of the thin-film benchmark sphere.
     #[inline]
     fn outside(&self, mu: f32) -> SampledSpectrum {
         if let CoatOptics::Dielectric { .. } = self.coat {
             return self.coat.outside(mu);
         }
-        let bits = mu.to_bits();
-        let m = &self.memo;
-        for (k, r) in m.mu.iter().zip(&m.r) {
-            if k.get() == bits {
-                return r.get();
-            }
+        let (bits, m) = (mu.to_bits(), &self.memo);
+        if m.mu.get() == bits {
+            return m.r.get();
         }
         let r = self.coat.outside(mu);
-        let slot = m.next.get();
-        m.mu[slot].set(bits);
-        m.r[slot].set(r);
-        m.next.set((slot + 1) % 4);
+        if m.mu.get() == u32::MAX {
+            m.mu.set(bits);
+            m.r.set(r);
+        }
         r
     }
 
@@ -256,8 +245,19 @@ impl CoatedDiffuse {
         if wo.z <= 0.0 || wi.z <= 0.0 {
             return SampledSpectrum::ZERO;
         }
-        let t_o = SampledSpectrum::ONE - self.outside(wo.z);
-        let t_i = SampledSpectrum::ONE - self.outside(wi.z);
+        self.f_with(wo, wi, self.outside(wo.z), self.outside(wi.z))
+    }
+
+    /// [`CoatedDiffuse::f`] for directions above, given the coat's reflectance at μo and μi.
+    fn f_with(
+        &self,
+        wo: Vec3,
+        wi: Vec3,
+        f_o: SampledSpectrum,
+        f_i: SampledSpectrum,
+    ) -> SampledSpectrum {
+        let t_o = SampledSpectrum::ONE - f_o;
+        let t_i = SampledSpectrum::ONE - f_i;
         let diffuse = t_o * t_i * self.slab(wo.z) * self.slab(wi.z) * self.diffuse_scale();
         match self.microfacet(wo, wi) {
             Some((wm, d)) => {
@@ -296,8 +296,16 @@ impl CoatedDiffuse {
         if wo.z <= 0.0 || wi.z <= 0.0 || self.k_norm <= 0.0 {
             return 0.0;
         }
-        let p_spec = self.spec_choice(self.outside(wo.z), wo.z);
-        let t_bar = 1.0 - self.outside(wi.z).average();
+        self.pdf_with(wo, wi, self.outside(wo.z), self.outside(wi.z))
+    }
+
+    /// [`CoatedDiffuse::pdf`] for directions above, given the coat's reflectance at μo and μi.
+    fn pdf_with(&self, wo: Vec3, wi: Vec3, f_o: SampledSpectrum, f_i: SampledSpectrum) -> f32 {
+        if self.k_norm <= 0.0 {
+            return 0.0;
+        }
+        let p_spec = self.spec_choice(f_o, wo.z);
+        let t_bar = 1.0 - f_i.average();
         let diffuse = (1.0 - p_spec) * t_bar * wi.z * INV_PI / self.k_norm;
         match self.microfacet(wo, wi) {
             Some((wm, d)) => diffuse + p_spec * d.pdf(wo, wm) / (4.0 * wo.dot(wm)),
@@ -317,11 +325,12 @@ impl CoatedDiffuse {
             if wi.z <= 0.0 {
                 return None;
             }
-            let pdf = self.pdf(wo, wi);
+            let f_i = self.outside(wi.z);
+            let pdf = self.pdf_with(wo, wi, f_o, f_i);
             if pdf.is_nan() || pdf <= 0.0 {
                 return None;
             }
-            let f = self.f(wo, wi);
+            let f = self.f_with(wo, wi, f_o, f_i);
             return Some(BsdfSample::new(f, wi, pdf, BxdfFlags::GLOSSY_REFLECTION));
         }
         if uc < p_spec {
@@ -336,13 +345,14 @@ impl CoatedDiffuse {
         let mut uu = u;
         for _ in 0..64 {
             let wi = warp::square_to_cosine_hemisphere(uu);
-            let t_bar = 1.0 - self.outside(wi.z).average();
+            let f_i = self.outside(wi.z);
+            let t_bar = 1.0 - f_i.average();
             if wi.z > 0.0 && rng.next_f32() < t_bar {
-                let pdf = self.pdf(wo, wi);
+                let pdf = self.pdf_with(wo, wi, f_o, f_i);
                 if pdf.is_nan() || pdf <= 0.0 {
                     return None;
                 }
-                let f = self.f(wo, wi);
+                let f = self.f_with(wo, wi, f_o, f_i);
                 return Some(BsdfSample::new(f, wi, pdf, BxdfFlags::DIFFUSE_REFLECTION));
             }
             uu = rng.next_vec2();

@@ -254,9 +254,6 @@ fn phase_g(a: &mut Args, i: usize) -> Result<f32, SceneError> {
 }
 
 /// How a layered BSDF is evaluated: the closed form or the random walk.
-// The closed form (216 bytes with its memo of film answers) stays inline on purpose: it is
-// made at every shading point, and boxing it would allocate there.
-#[allow(clippy::large_enum_variant)]
 #[derive(Clone, Debug)]
 pub enum LayeredModel {
     /// Inline: a thin-film coat makes one per shading point, without allocating.
