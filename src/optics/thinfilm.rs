@@ -117,7 +117,7 @@ pub(crate) fn film_r(cos_theta0: f64, n0: f64, n1: C, d_nm: f64, n2: C, lambda_n
 
 /// [`film_r`] at four wavelengths at once (a BSDF's hero wavelengths), for real indices: the
 /// outside `n0`, the film `n1` and the base `n2`, lane by lane. Where every lane propagates
-/// (no total internal reflection, `d_nm` > 0) the Airy sum runs in four lanes with one
+/// (no total internal reflection) the Airy sum runs in four lanes with one
 /// [`sincos4`](super::simd4::sincos4) for the phases; it agrees with `film_r` to a few ulp
 /// (the cosine's rounding; tested). Other cases take `film_r` lane by lane.
 pub(crate) fn film_r4(cos_theta0: f64, n0: F4, n1: F4, d_nm: f64, n2: F4, lambda_nm: F4) -> F4 {
@@ -145,7 +145,11 @@ fn film_r4_lanes(cos_theta0: f64, n0: F4, n1: F4, d_nm: f64, n2: F4, lambda_nm: 
     let mut c1 = [0.0; 4];
     let mut c2 = [0.0; 4];
     let mut phase = [0.0; 4];
-    let mut ok = cos_theta0 > 0.0 && d_nm != 0.0;
+    // A film of zero thickness takes this path too where the film's cosine is real: its phase
+    // is 0, and the Airy sum with cos 2δ = 1 is the bare n0 | n2 interface (r02 = (r01 + r12)
+    // / (1 + r01 r12)), to rounding. (The complex fallback, lane by lane, took half the render
+    // time of a thin-film sphere with `film_thickness` = 0.)
+    let mut ok = cos_theta0 > 0.0;
     for i in 0..4 {
         let s2 = (n0[i] * n0[i]) * (1.0 - cos0 * cos0);
         let c1sq = 1.0 - s2 / (n1[i] * n1[i]);
