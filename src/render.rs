@@ -325,16 +325,19 @@ fn render_tile(
             let mut acc = [0.0f64; 4];
             for s in s0..s1 {
                 sampler.start_pixel_sample(x, y, s);
-                // The camera's set of dimensions: the filter offset and the lens point (drawn
-                // only by cameras with a lens); the wavelengths start the next set.
+                // The camera's sets of dimensions: the filter offset, then the lens point
+                // (drawn only by cameras with a lens) and the wavelengths from the next set,
+                // or a pinhole's wavelengths in the lens's place.
                 let offset = scene.filter.sample(sampler.get_2d());
                 let lens = if scene.camera.needs_aperture_sample() {
-                    sampler.get_2d()
+                    let lens = sampler.get_2d();
+                    sampler.start_set();
+                    lens
                 } else {
                     Vec2::splat(0.5)
                 };
-                sampler.start_set();
                 let wl = SampledWavelengths::sample_visible(sampler.get_1d());
+                sampler.end_camera();
                 let film_p = (Vec2::new(x as f32 + 0.5, y as f32 + 0.5) + offset) * inv;
                 let ray = scene.camera.generate_ray(film_p, lens);
                 if let Some(a) = aov {

@@ -49,12 +49,15 @@ pub(super) fn start<F: Float>(
         let (x, y) = (jobs.x0 + pixel % jobs.width, jobs.y0 + pixel / jobs.width);
         let mut st = SamplerState::start(scene.sampler.seed, x, y, jobs.s0 + job % jobs.spp);
         // As `render::render_tile`: filter offset and lens point (rows 0–3), then the
-        // wavelengths (row 4) from the next set.
+        // wavelengths (row 4), from the next set if there is a lens.
         for row in u.iter_mut().take(if lens { 4 } else { 2 }) {
             row[i] = st.next_1d(kind);
         }
-        st.start_set();
+        if lens {
+            st.start_set();
+        }
         u[4][i] = st.next_1d(kind);
+        st.end_camera();
         pool.set_sampler_state(base + i, &st);
         pool.job[base + i] = job;
         px[0][i] = x as f32 + 0.5;
