@@ -20,9 +20,10 @@
 //! 2^m points puts 2^t points in each elementary interval of area 2^(t−m); t = 0 is perfect
 //! stratification): dimensions taken in order would give the first BSDF sample dimensions 7
 //! and 8, whose 16 points have t = 3 — on the thin-film benchmark sphere the noise per
-//! sample was higher at 16 spp than at 8 (relVar × spp 0.0089 vs 0.0076). The pairs below have
-//! t ≤ 1 up to 32 points and ≤ 3 up to 128 (`FIRST_SETS`; the test
-//! `first_sets_pairs_are_well_stratified` checks it).
+//! sample was higher at 16 spp than at 8 (relVar × spp 0.0089 vs 0.0076). The pairs chosen
+//! have t ≤ 1 up to 32 points and ≤ 3 up to 128, but for the lens point, which takes Sobol
+//! dimensions 2–3 beside the filter offset for their joint stratification (t = 2 at 8 points)
+//! (`FIRST_SETS`; the test `first_sets_pairs_are_well_stratified` checks it).
 //!
 //! Later sets are *padded* (Kollig & Keller 2002, "Efficient multidimensional sampling";
 //! Burley 2020, §4): each is the sequence's first four dimensions with the sample index
@@ -30,10 +31,11 @@
 //! sequence's best projections — its first two dimensions a (0, 2)-sequence — and sets are
 //! independent of one another, to any path depth (the crate's 256 dimensions do not limit
 //! it). Measured on the thin-film benchmark sphere (`bench/noise.py`, 96², relVar × spp,
-//! before → after): plastic coat 0.0088 → 0.0036 at 16 spp, 0.0018 → 0.00095 at 256; random
-//! walk 0.019 → 0.0099 at 16, equal at 64 and 256; smooth coat equal. Padding every set
-//! instead lost the joint stratification: 1.15–1.27× the noise at 256 spp for the walk and
-//! the smooth coat.
+//! before → after): plastic coat 0.0088 → 0.0036 at 16 spp, 0.0023 → 0.0024 at 64, 0.0018 →
+//! 0.00095 at 256; random walk 0.019 → 0.0095 at 16, 0.0050 → 0.0044 at 256; smooth coat
+//! equal; the flagship 0.239 → 0.220 at 16 spp, level at 64. Padding every set instead lost
+//! the joint stratification: 1.15–1.27× the noise at 256 spp for the walk and the smooth
+//! coat; a lens point away from the filter offset cost the flagship 4–9 % at 64 spp.
 
 use crate::math::rng::mix64;
 use crate::math::{Pcg32, Vec2};

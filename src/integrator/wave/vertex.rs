@@ -177,8 +177,8 @@ fn draw3<F: Float>(pool: &mut Pool, base: usize, m: F::M, kind: SamplerKind) -> 
     [F::load(&u[0]), F::load(&u[1]), F::load(&u[2])]
 }
 
-/// [`crate::sampler::SamplerState::start_set`] for the lanes in `m`: each skips to its next set of four
-/// dimensions. (The Sobol cache in a lane's state is rebuilt on its next draw either way.)
+/// [`crate::sampler::SamplerState::start_set`] for the lanes in `m`: each skips to its next
+/// set of four dimensions. (A lane's Sobol cache is rebuilt on its next draw either way.)
 #[inline(always)]
 fn start_set<F: Float>(pool: &mut Pool, base: usize, m: F::M) {
     let dim = F::I::load_at(&pool.dim[..], base);
