@@ -293,7 +293,7 @@ impl CoatedDiffuse {
 
     /// Exact density of the non-delta samples.
     pub(crate) fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
-        if wo.z <= 0.0 || wi.z <= 0.0 || self.k_norm <= 0.0 {
+        if wo.z <= 0.0 || wi.z <= 0.0 {
             return 0.0;
         }
         self.pdf_with(wo, wi, self.outside(wo.z), self.outside(wi.z))
