@@ -94,7 +94,9 @@ impl SigmoidPolynomial {
         if self.c0 == 0.0 && self.c1 == 0.0 {
             return [sigmoid(self.c2); 4];
         }
-        lambda.map(|l| sigmoid((self.c0 * l + self.c1) * l + self.c2))
+        // Lane by lane rather than `lambda.map(…)`, whose closure is not always inlined.
+        let f = |l: f32| sigmoid((self.c0 * l + self.c1) * l + self.c2);
+        [f(lambda[0]), f(lambda[1]), f(lambda[2]), f(lambda[3])]
     }
 
     /// Largest value over 360–830 nm: at an end or at the polynomial's stationary point.

@@ -190,8 +190,21 @@ impl Spectrum {
             Spectrum::RgbAlbedo(p) => SampledSpectrum(p.eval4(l)),
             Spectrum::RgbUnbounded { scale, poly } => SampledSpectrum(poly.eval4(l)) * *scale,
             Spectrum::RgbIlluminant { scale, poly } => {
-                let (p, d) = (poly.eval4(l), l.map(cie::d65));
-                SampledSpectrum::from_fn(|i| scale * p[i] * d[i])
+                // Lane by lane, not `l.map(cie::d65)`: that closure was not inlined (`try_map`,
+                // 2 % of a render of the thin-film sphere, whose sky is an RGB illuminant).
+                let p = poly.eval4(l);
+                let d = [
+                    cie::d65(l[0]),
+                    cie::d65(l[1]),
+                    cie::d65(l[2]),
+                    cie::d65(l[3]),
+                ];
+                SampledSpectrum([
+                    scale * p[0] * d[0],
+                    scale * p[1] * d[1],
+                    scale * p[2] * d[2],
+                    scale * p[3] * d[3],
+                ])
             }
             _ => SampledSpectrum::from_fn(|i| self.eval(l[i])),
         }

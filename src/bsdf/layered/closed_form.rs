@@ -218,6 +218,11 @@ impl CoatedDiffuse {
         if mt <= 0.0 {
             return SampledSpectrum::ZERO;
         }
+        // No slab (τ = 0, as when `multilayered` is given no medium): e^0 without four `expf`
+        // calls (3 % of a render of the thin-film benchmark sphere).
+        if self.tau == SampledSpectrum::ZERO {
+            return SampledSpectrum::ONE;
+        }
         (-self.tau / mt).exp()
     }
 
