@@ -158,11 +158,10 @@ pub fn radiance(
     let material = &scene.materials[scene.shape_material[si.shape as usize] as usize];
     let front = si.ng.dot(wo) >= 0.0;
     let tc = TexCoord { uv: si.uv, p: si.p };
-    let (bxdf, two_sided) = material.eval(&tc, wl, front, sampler.vertex_seed());
     let bsdf = Bsdf {
         frame: material.shading_frame(&si, wo, scene.camera.footprint(scene.height, si.t)),
-        bxdf,
-        two_sided,
+        bxdf: material.bxdf(&tc, wl, front, sampler.vertex_seed()),
+        two_sided: material.is_two_sided(),
     };
     let flags = bsdf.flags();
     if flags.0 == 0 {

@@ -253,15 +253,14 @@ impl PathState {
 
         let front = si.ng.dot(wo) >= 0.0;
         let tc = TexCoord { uv: si.uv, p: si.p };
-        let (bxdf, two_sided) = material.eval(&tc, wl, front, sampler.vertex_seed());
         let bsdf = Bsdf {
             frame: material.shading_frame(
                 si,
                 wo,
                 scene.camera.footprint(scene.height, self.path_length),
             ),
-            bxdf,
-            two_sided,
+            bxdf: material.bxdf(&tc, wl, front, sampler.vertex_seed()),
+            two_sided: material.is_two_sided(),
         };
         let flags = bsdf.flags();
         if flags.0 == 0 {

@@ -132,9 +132,15 @@ fn kernel(r: f64) -> (f64, f64) {
 /// (sin x, cos x) lane-wise.
 #[inline(always)]
 pub(crate) fn sincos4(x: F4) -> (F4, F4) {
-    let mut sin = [0.0; 4];
-    let mut cos = [0.0; 4];
-    for i in 0..4 {
+    sincos_lanes(x)
+}
+
+/// [`sincos4`] on any number of lanes (eight: two films' four wavelengths in one pass).
+#[inline(always)]
+pub(crate) fn sincos_lanes<const L: usize>(x: [f64; L]) -> ([f64; L], [f64; L]) {
+    let mut sin = [0.0; L];
+    let mut cos = [0.0; L];
+    for i in 0..L {
         let t = x[i] * FRAC_2_PI + ROUND_MAGIC;
         let j = t - ROUND_MAGIC;
         let q = t.to_bits();
@@ -149,7 +155,7 @@ pub(crate) fn sincos4(x: F4) -> (F4, F4) {
         cos[i] = f64::from_bits(cv ^ ((q.wrapping_add(1) & 2) << 62));
     }
     if x.iter().any(|v| !(v.abs() < SINCOS_LIMIT)) {
-        for i in 0..4 {
+        for i in 0..L {
             if !(x[i].abs() < SINCOS_LIMIT) {
                 (sin[i], cos[i]) = x[i].sin_cos();
             }

@@ -141,36 +141,151 @@ unsafe fn film_r4_avx2(cos_theta0: f64, n0: F4, n1: F4, d_nm: f64, n2: F4, lambd
 
 #[inline(always)]
 fn film_r4_lanes(cos_theta0: f64, n0: F4, n1: F4, d_nm: f64, n2: F4, lambda_nm: F4) -> F4 {
-    let cos0 = cos_theta0.min(1.0);
-    let mut c1 = [0.0; 4];
-    let mut c2 = [0.0; 4];
-    let mut phase = [0.0; 4];
+    match film_r_lanes([cos_theta0; 4], n0, n1, d_nm, n2, lambda_nm) {
+        Some(r) => r,
+        None => film_r4_each(cos_theta0, n0, n1, d_nm, n2, lambda_nm),
+    }
+}
+
+/// [`film_r`] lane by lane: [`film_r4`]'s answer where some lane is not the real case.
+fn film_r4_each(cos_theta0: f64, n0: F4, n1: F4, d_nm: f64, n2: F4, lambda_nm: F4) -> F4 {
+    let re = |x: f64| C::new(x, 0.0);
+    let mut r = [0.0; 4];
+    for i in 0..4 {
+        r[i] = film_r(cos_theta0, n0[i], re(n1[i]), d_nm, re(n2[i]), lambda_nm[i]);
+    }
+    r
+}
+
+/// [`film_r4`] at two cosines at once, `cos_a` and `cos_b`, for the same film and wavelengths:
+/// `(film_r4(cos_a, …), film_r4(cos_b, …))` bit for bit (tested). The eight lanes run as one
+/// chain of operations, so the two Airy sums' divisions and polynomials overlap instead of
+/// following one another (a BSDF asks for pairs: the coat's transmittance at a direction and
+/// its reflectance at the microfacet between it and the viewer).
+pub(crate) fn film_r4x2(
+    cos_a: f64,
+    cos_b: f64,
+    n0: F4,
+    n1: F4,
+    d_nm: f64,
+    n2: F4,
+    lambda_nm: F4,
+) -> (F4, F4) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        if std::arch::is_x86_feature_detected!("avx512f") {
+            // SAFETY: the CPU supports AVX-512F (checked just above), the only requirement.
+            return unsafe { film_r4x2_avx512(cos_a, cos_b, n0, n1, d_nm, n2, lambda_nm) };
+        }
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU supports AVX2 (checked just above), the only requirement.
+            return unsafe { film_r4x2_avx2(cos_a, cos_b, n0, n1, d_nm, n2, lambda_nm) };
+        }
+    }
+    film_r4x2_lanes(cos_a, cos_b, n0, n1, d_nm, n2, lambda_nm)
+}
+
+/// [`film_r4x2`] compiled for AVX-512: the eight lanes in one register.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+unsafe fn film_r4x2_avx512(
+    cos_a: f64,
+    cos_b: f64,
+    n0: F4,
+    n1: F4,
+    d_nm: f64,
+    n2: F4,
+    lambda_nm: F4,
+) -> (F4, F4) {
+    film_r4x2_lanes(cos_a, cos_b, n0, n1, d_nm, n2, lambda_nm)
+}
+
+/// [`film_r4x2`] compiled for AVX2: the eight lanes in two registers.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn film_r4x2_avx2(
+    cos_a: f64,
+    cos_b: f64,
+    n0: F4,
+    n1: F4,
+    d_nm: f64,
+    n2: F4,
+    lambda_nm: F4,
+) -> (F4, F4) {
+    film_r4x2_lanes(cos_a, cos_b, n0, n1, d_nm, n2, lambda_nm)
+}
+
+#[inline(always)]
+fn film_r4x2_lanes(
+    cos_a: f64,
+    cos_b: f64,
+    n0: F4,
+    n1: F4,
+    d_nm: f64,
+    n2: F4,
+    lambda_nm: F4,
+) -> (F4, F4) {
+    // Written with loops, not `array::from_fn`/`map`, which are not inlined into
+    // `#[target_feature]` functions.
+    let (mut cos, mut m0, mut m1, mut m2, mut l) =
+        ([0.0; 8], [0.0; 8], [0.0; 8], [0.0; 8], [0.0; 8]);
+    for i in 0..8 {
+        cos[i] = if i < 4 { cos_a } else { cos_b };
+        m0[i] = n0[i % 4];
+        m1[i] = n1[i % 4];
+        m2[i] = n2[i % 4];
+        l[i] = lambda_nm[i % 4];
+    }
+    match film_r_lanes(cos, m0, m1, d_nm, m2, l) {
+        Some(r) => ([r[0], r[1], r[2], r[3]], [r[4], r[5], r[6], r[7]]),
+        None => (
+            film_r4_lanes(cos_a, n0, n1, d_nm, n2, lambda_nm),
+            film_r4_lanes(cos_b, n0, n1, d_nm, n2, lambda_nm),
+        ),
+    }
+}
+
+/// The Airy reflectance of every lane in real arithmetic, each at its own cosine, with one
+/// [`sincos_lanes`](super::simd4::sincos_lanes) for the phases; `None` unless every lane is
+/// the real case (light from above, no total internal reflection, positive indices).
+#[inline(always)]
+fn film_r_lanes<const L: usize>(
+    cos_theta0: [f64; L],
+    n0: [f64; L],
+    n1: [f64; L],
+    d_nm: f64,
+    n2: [f64; L],
+    lambda_nm: [f64; L],
+) -> Option<[f64; L]> {
+    let mut cos0 = [0.0; L];
+    let mut c1 = [0.0; L];
+    let mut c2 = [0.0; L];
+    let mut phase = [0.0; L];
     // A film of zero thickness takes this path too where the film's cosine is real: its phase
     // is 0, and the Airy sum with cos 2δ = 1 is the bare n0 | n2 interface (r02 = (r01 + r12)
     // / (1 + r01 r12)), to rounding. (The complex fallback, lane by lane, took half the render
     // time of a thin-film sphere with `film_thickness` = 0.)
-    let mut ok = cos_theta0 > 0.0;
-    for i in 0..4 {
-        let s2 = (n0[i] * n0[i]) * (1.0 - cos0 * cos0);
+    let mut ok = true;
+    for i in 0..L {
+        cos0[i] = cos_theta0[i].min(1.0);
+        let s2 = (n0[i] * n0[i]) * (1.0 - cos0[i] * cos0[i]);
         let c1sq = 1.0 - s2 / (n1[i] * n1[i]);
         let c2sq = 1.0 - s2 / (n2[i] * n2[i]);
-        ok &= c1sq > 0.0 && c2sq > 0.0 && n1[i] > 0.0 && n2[i] > 0.0;
+        ok &= cos_theta0[i] > 0.0 && c1sq > 0.0 && c2sq > 0.0 && n1[i] > 0.0 && n2[i] > 0.0;
         c1[i] = c1sq.max(0.0).sqrt();
         c2[i] = c2sq.max(0.0).sqrt();
         phase[i] = 4.0 * std::f64::consts::PI * n1[i] * d_nm * c1[i] / lambda_nm[i];
     }
     if !ok {
-        return std::array::from_fn(|i| {
-            let re = |x: f64| C::new(x, 0.0);
-            film_r(cos_theta0, n0[i], re(n1[i]), d_nm, re(n2[i]), lambda_nm[i])
-        });
+        return None;
     }
-    let (_, cos2d) = super::simd4::sincos4(phase);
-    std::array::from_fn(|i| {
-        let (n0, n1, n2, c1, c2) = (n0[i], n1[i], n2[i], c1[i], c2[i]);
-        let (r_s, r_p) = airy_real(n0, n1, n2, cos0, c1, c2, cos2d[i]);
-        0.5 * (r_s + r_p)
-    })
+    let (_, cos2d) = super::simd4::sincos_lanes(phase);
+    let mut r = [0.0; L];
+    for i in 0..L {
+        let (r_s, r_p) = airy_real(n0[i], n1[i], n2[i], cos0[i], c1[i], c2[i], cos2d[i]);
+        r[i] = 0.5 * (r_s + r_p);
+    }
+    Some(r)
 }
 
 /// [`film_rt_complex`]'s reflectance, the same operations in the same order.
@@ -393,6 +508,53 @@ mod tests {
                     let a = film_r4(cos, n0, n1, d, n2, lambda);
                     let b = film_r4_lanes(cos, n0, n1, d, n2, lambda);
                     assert_eq!(a.map(f64::to_bits), b.map(f64::to_bits), "cos {cos}, d {d}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn film_r4x2_is_two_film_r4_bit_for_bit_on_every_path() {
+        // The pair's eight lanes run the four-lane path's operations, in whichever build the
+        // dispatcher takes (AVX-512, AVX2, baseline); each is checked where the CPU has it, so
+        // the fallbacks are exercised on any machine. Cosines include grazing, 0 and total
+        // internal reflection (n0 = 1.45 over air), where one half falls back to `film_r`.
+        let fine = |a: F4, b: F4| a.map(f64::to_bits) == b.map(f64::to_bits);
+        type Pair = fn(f64, f64, F4, F4, f64, F4, F4) -> (F4, F4);
+        let mut builds: Vec<(&str, Pair)> =
+            vec![("dispatch", film_r4x2), ("lanes", film_r4x2_lanes)];
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::arch::is_x86_feature_detected!("avx2") {
+                // SAFETY: AVX2 checked just above.
+                builds.push(("avx2", |a, b, n0, n1, d, n2, l| unsafe {
+                    film_r4x2_avx2(a, b, n0, n1, d, n2, l)
+                }));
+            }
+            if std::arch::is_x86_feature_detected!("avx512f") {
+                // SAFETY: AVX-512F checked just above.
+                builds.push(("avx512", |a, b, n0, n1, d, n2, l| unsafe {
+                    film_r4x2_avx512(a, b, n0, n1, d, n2, l)
+                }));
+            }
+        }
+        let n1 = [1.56, 1.57, 1.58, 1.59];
+        let lambda = [380.0, 472.5, 601.25, 780.0];
+        for (n0, n2) in [([1.0; 4], [1.5, 1.51, 1.52, 1.53]), ([1.45; 4], [1.0; 4])] {
+            for d in [0.0, 330.0, 2000.0] {
+                for (ka, kb) in [(40, 3), (17, 0), (0, 0), (29, 31), (1, 40)] {
+                    let (a, b) = (ka as f64 / 40.0, kb as f64 / 40.0);
+                    let want = (
+                        film_r4(a, n0, n1, d, n2, lambda),
+                        film_r4(b, n0, n1, d, n2, lambda),
+                    );
+                    for (name, f) in &builds {
+                        let got = f(a, b, n0, n1, d, n2, lambda);
+                        assert!(
+                            fine(got.0, want.0) && fine(got.1, want.1),
+                            "{name}: cos {a}, {b}, d {d}: {got:?} vs {want:?}"
+                        );
+                    }
                 }
             }
         }

@@ -5,7 +5,7 @@
 //! reflections are in `integrals.rs`.
 
 use crate::bsdf::fresnel::fresnel_dielectric;
-use crate::optics::thinfilm::film_r4;
+use crate::optics::thinfilm::{film_r4, film_r4x2};
 use crate::spectrum::{SampledSpectrum, N};
 
 /// The reflectance of the smooth coat: a bare dielectric, or a dielectric under a thin film.
@@ -35,6 +35,35 @@ impl CoatOptics {
     /// Reflectance per wavelength for light arriving from outside with cosine `mu` ≥ 0.
     pub fn outside(&self, mu: f32) -> SampledSpectrum {
         self.reflectance(mu, false)
+    }
+
+    /// [`CoatOptics::outside`] at two cosines: a film coat's eight Airy sums in one pass
+    /// ([`film_r4x2`]), the same values bit for bit.
+    pub fn outside2(&self, mu_a: f32, mu_b: f32) -> (SampledSpectrum, SampledSpectrum) {
+        match *self {
+            CoatOptics::Dielectric { .. } => (self.outside(mu_a), self.outside(mu_b)),
+            CoatOptics::Film {
+                eta,
+                film_ior,
+                thickness_nm,
+                lambda,
+            } => {
+                let lane = |a: [f32; N]| [a[0] as f64, a[1] as f64, a[2] as f64, a[3] as f64];
+                let (a, b) = film_r4x2(
+                    mu_a as f64,
+                    mu_b as f64,
+                    [1.0; N],
+                    lane(film_ior),
+                    thickness_nm as f64,
+                    [eta as f64; N],
+                    lane(lambda),
+                );
+                let sp = |r: [f64; N]| {
+                    SampledSpectrum([r[0] as f32, r[1] as f32, r[2] as f32, r[3] as f32])
+                };
+                (sp(a), sp(b))
+            }
+        }
     }
 
     /// Reflectance per wavelength for light arriving from inside the coat with cosine `mu`.

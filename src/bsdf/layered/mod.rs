@@ -343,17 +343,10 @@ impl LayeredBxdf {
         // The closed form is looked for before the interfaces are gathered for a walk: it
         // needs only the first two, and a render with a film coat makes one per shading point.
         let mut rest = it.peekable();
-        if allow_closed && rest.peek().is_none() && media.len() == 1 && !media[0].scatters() {
-            if let (Some(top), Some(Bxdf::Diffuse(base))) = (&top, &base) {
-                if let Some((coat, rough)) = coat_optics(top, rough_plastic) {
-                    let c = CoatedDiffuse::new(coat, base.r, media[0].sigma_t);
-                    return Some(LayeredBxdf {
-                        model: LayeredModel::Closed(match rough {
-                            Some(d) => c.with_rough(d),
-                            None => c,
-                        }),
-                        seed,
-                    });
+        if rest.peek().is_none() {
+            if let (Some(t), Some(b)) = (&top, &base) {
+                if let Some(l) = Self::closed(t, b, media, allow_closed, rough_plastic, seed) {
+                    return Some(l);
                 }
             }
         }
@@ -362,6 +355,33 @@ impl LayeredBxdf {
                 model: LayeredModel::Walk(s),
                 seed,
             }
+        })
+    }
+
+    /// The two-layer stack `top` over `base` in closed form, where [`LayeredBxdf::new`] would
+    /// make it one; `None` where it would take the random walk.
+    pub fn closed(
+        top: &Bxdf,
+        base: &Bxdf,
+        media: &[Medium],
+        allow_closed: bool,
+        rough_plastic: bool,
+        seed: u64,
+    ) -> Option<LayeredBxdf> {
+        if !allow_closed || media.len() != 1 || media[0].scatters() {
+            return None;
+        }
+        let Bxdf::Diffuse(base) = base else {
+            return None;
+        };
+        let (coat, rough) = coat_optics(top, rough_plastic)?;
+        let c = CoatedDiffuse::new(coat, base.r, media[0].sigma_t);
+        Some(LayeredBxdf {
+            model: LayeredModel::Closed(match rough {
+                Some(d) => c.with_rough(d),
+                None => c,
+            }),
+            seed,
         })
     }
 
