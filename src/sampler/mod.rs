@@ -37,6 +37,8 @@
 //! the joint stratification: 1.15–1.27× the noise at 256 spp for the walk and the smooth
 //! coat; a lens point away from the filter offset cost the flagship 4–9 % at 64 spp.
 
+mod sets;
+
 use crate::math::rng::mix64;
 use crate::math::{Pcg32, Vec2};
 
@@ -151,7 +153,7 @@ impl SamplerState {
                     }
                 };
                 if key != self.sobol_set {
-                    self.sobol = sobol_burley::sample_4d(self.index, sobol_set, seed);
+                    self.sobol = sets::sample_4d(self.index, sobol_set, seed);
                     self.sobol_set = key;
                 }
                 let v = self.sobol[comp as usize];
