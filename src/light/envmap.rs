@@ -46,7 +46,6 @@ use super::Light;
 use crate::image_io::{read_image, RgbImage};
 use crate::math::{Transform, Vec2, Vec3, PI};
 use crate::plugin::{declare, Args, Check, DefaultValue, Param, SceneError, Ty};
-use crate::spectrum::cie::d65;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
 
 declare!(PLUGIN: Vec<Light>, Option<u32> = Emitter "envmap" []
@@ -238,7 +237,7 @@ impl EnvMapLight {
                 &self.texels[j.clamp(0, h - 1) as usize * self.width + i.rem_euclid(w) as usize];
             let (s, f) = match texel {
                 Spectrum::RgbIlluminant { scale, poly } => (
-                    SampledSpectrum::from_fn(|k| poly.eval(wl.lambda[k]) * d65(wl.lambda[k])),
+                    SampledSpectrum::from_fn(|k| poly.eval(wl.lambda[k]) * wl.d65[k]),
                     *scale,
                 ),
                 other => (other.sample(wl), 1.0),

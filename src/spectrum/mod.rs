@@ -171,15 +171,31 @@ impl IndexMut<usize> for SampledSpectrum {
 pub struct SampledWavelengths {
     pub lambda: [f32; N],
     pub pdf: [f32; N],
+    /// The normalised D65 illuminant at each wavelength ([`cie::d65`]), computed once per
+    /// path: every RGB emitter (`Spectrum::RgbIlluminant`) multiplies by it at each evaluation,
+    /// and looking it up there cost ~3 % of a render of the thin-film benchmark sphere. Keep it
+    /// in step with `lambda` ([`SampledWavelengths::new`]).
+    pub d65: [f32; N],
 }
 
 impl SampledWavelengths {
+    /// Wavelengths `lambda` with densities `pdf`, and their D65 values.
+    #[inline]
+    pub fn new(lambda: [f32; N], pdf: [f32; N]) -> SampledWavelengths {
+        let d = cie::d65;
+        SampledWavelengths {
+            lambda,
+            pdf,
+            d65: [d(lambda[0]), d(lambda[1]), d(lambda[2]), d(lambda[3])],
+        }
+    }
+
     /// Hero-wavelength sampling by the sRGB response ([`response`]): the i-th wavelength from
     /// (u + i)/N (`response::hero_position`), all through the same inverse CDF so each has
     /// the same density.
     pub fn sample_visible(u: f32) -> SampledWavelengths {
         let (lambda, pdf) = response::sample_hero(u);
-        SampledWavelengths { lambda, pdf }
+        SampledWavelengths::new(lambda, pdf)
     }
 
     /// [`SampledWavelengths::sample_visible`] on lanes (the same operations, so the same
@@ -200,18 +216,12 @@ impl SampledWavelengths {
     pub fn sample_uniform(u: f32) -> SampledWavelengths {
         let delta = (LAMBDA_MAX - LAMBDA_MIN) / N as f32;
         let lambda = std::array::from_fn(|i| LAMBDA_MIN + (u + i as f32) * delta);
-        SampledWavelengths {
-            lambda,
-            pdf: [1.0 / (LAMBDA_MAX - LAMBDA_MIN); N],
-        }
+        SampledWavelengths::new(lambda, [1.0 / (LAMBDA_MAX - LAMBDA_MIN); N])
     }
 
     /// Given wavelengths with unit density (for evaluating at chosen wavelengths, e.g. in tools).
     pub fn fixed(lambda: [f32; N]) -> SampledWavelengths {
-        SampledWavelengths {
-            lambda,
-            pdf: [1.0; N],
-        }
+        SampledWavelengths::new(lambda, [1.0; N])
     }
 
     /// The first wavelength. From [`SampledWavelengths::sample_visible`] it always lies in the

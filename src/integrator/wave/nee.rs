@@ -95,6 +95,7 @@ pub(super) fn sample_lights<F: Float>(
             let wl = crate::spectrum::SampledWavelengths {
                 lambda: std::array::from_fn(|k| lambda[k].lane(i)),
                 pdf: std::array::from_fn(|k| wl_pdf[k].lane(i)),
+                d65: std::array::from_fn(|k| d65[k].lane(i)),
             };
             let u = Vec2::new(us[0][i], us[1][i]);
             if let Some(ls) = scene.lights[li].sample_li(&ctx, u, &wl, &scene.shapes) {

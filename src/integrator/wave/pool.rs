@@ -171,9 +171,11 @@ impl Pool {
     /// Path `i`'s wavelengths.
     #[inline]
     pub fn wavelengths(&self, i: usize) -> SampledWavelengths {
+        // The D65 values computed in lanes at the camera (the same operations as `cie::d65`).
         SampledWavelengths {
             lambda: std::array::from_fn(|k| self.lambda[k][i]),
             pdf: std::array::from_fn(|k| self.wl_pdf[k][i]),
+            d65: std::array::from_fn(|k| self.d65[k][i]),
         }
     }
 
