@@ -334,6 +334,10 @@ fn film_integrals_tabulated(
     FILM_TABLE.with(|t| {
         let mut t = t.borrow_mut();
         for (dd, wd) in [(0.0, 1.0 - fd), (1.0, fd)] {
+            // A whole number of nanometres (a constant film's usual thickness) needs one row.
+            if wd == 0.0 {
+                continue;
+            }
             let row = t.row((eta.to_bits(), film_q, tau_q, (d0 + dd) as i32));
             for i in 0..N {
                 let l = lambda[i];
