@@ -95,9 +95,14 @@ impl Perez {
     /// F(θ, γ) from cos θ (> 0) and γ (radians).
     #[inline]
     pub fn eval(&self, cos_theta: f32, gamma: f32) -> f32 {
-        let cg = gamma.cos();
+        self.eval_cos(cos_theta, gamma, gamma.cos())
+    }
+
+    /// [`Perez::eval`] given cos γ too (the sky evaluates three functions at one direction).
+    #[inline]
+    pub fn eval_cos(&self, cos_theta: f32, gamma: f32, cos_gamma: f32) -> f32 {
         (1.0 + self.a * (self.b / cos_theta).exp())
-            * (1.0 + self.c * (self.d * gamma).exp() + self.e * cg * cg)
+            * (1.0 + self.c * (self.d * gamma).exp() + self.e * cos_gamma * cos_gamma)
     }
 }
 
@@ -211,10 +216,14 @@ pub(crate) fn daylight_radiance<const N: usize>(
         return [0.0; N];
     }
     let k = lum / (LUMINOUS_EFFICACY * y_int);
-    lambda.map(|l| {
+    // A loop rather than `lambda.map(…)`, whose closure was not inlined (0.7 % of the
+    // flagship's render).
+    let mut out = [0.0; N];
+    for (o, &l) in out.iter_mut().zip(&lambda) {
         let s = b.eval(l);
-        (k * (s[0] + m1 * s[1] + m2 * s[2])).max(0.0)
-    })
+        *o = (k * (s[0] + m1 * s[1] + m2 * s[2])).max(0.0);
+    }
+    out
 }
 
 /// A clear sky for one sun position and turbidity, in the sky's local frame (+y = zenith).
@@ -256,8 +265,11 @@ impl PreethamSky {
         if d.y <= 0.0 {
             return (0.0, 0.0, 0.0);
         }
-        let gamma = crate::math::safe_acos(d.dot(self.sun));
-        let v: [f32; 3] = std::array::from_fn(|i| self.norm[i] * self.perez[i].eval(d.y, gamma));
+        // cos γ is the dot product itself (clamped as `safe_acos` clamps it), not cos(acos(…)).
+        let cg = d.dot(self.sun).clamp(-1.0, 1.0);
+        let gamma = crate::math::safe_acos(cg);
+        let f = |i: usize| self.norm[i] * self.perez[i].eval_cos(d.y, gamma, cg);
+        let v = [f(0), f(1), f(2)];
         (v[0].max(0.0), v[1], v[2])
     }
 
