@@ -158,74 +158,59 @@ fn film_r4_each(cos_theta0: f64, n0: F4, n1: F4, d_nm: f64, n2: F4, lambda_nm: F
     r
 }
 
+/// A film with real indices at a path's four wavelengths: the media before (`n0`) and after
+/// (`n2`) it as light meets them, the film's index `n1` and thickness, and the wavelengths.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct RealFilm {
+    pub n0: F4,
+    pub n1: F4,
+    pub d_nm: f64,
+    pub n2: F4,
+    pub lambda_nm: F4,
+}
+
 /// [`film_r4`] at two cosines at once, `cos_a` and `cos_b`, for the same film and wavelengths:
 /// `(film_r4(cos_a, …), film_r4(cos_b, …))` bit for bit (tested). The eight lanes run as one
 /// chain of operations, so the two Airy sums' divisions and polynomials overlap instead of
 /// following one another (a BSDF asks for pairs: the coat's transmittance at a direction and
 /// its reflectance at the microfacet between it and the viewer).
-pub(crate) fn film_r4x2(
-    cos_a: f64,
-    cos_b: f64,
-    n0: F4,
-    n1: F4,
-    d_nm: f64,
-    n2: F4,
-    lambda_nm: F4,
-) -> (F4, F4) {
+pub(crate) fn film_r4x2(cos_a: f64, cos_b: f64, f: &RealFilm) -> (F4, F4) {
     #[cfg(target_arch = "x86_64")]
     {
         if std::arch::is_x86_feature_detected!("avx512f") {
             // SAFETY: the CPU supports AVX-512F (checked just above), the only requirement.
-            return unsafe { film_r4x2_avx512(cos_a, cos_b, n0, n1, d_nm, n2, lambda_nm) };
+            return unsafe { film_r4x2_avx512(cos_a, cos_b, f) };
         }
         if std::arch::is_x86_feature_detected!("avx2") {
             // SAFETY: the CPU supports AVX2 (checked just above), the only requirement.
-            return unsafe { film_r4x2_avx2(cos_a, cos_b, n0, n1, d_nm, n2, lambda_nm) };
+            return unsafe { film_r4x2_avx2(cos_a, cos_b, f) };
         }
     }
-    film_r4x2_lanes(cos_a, cos_b, n0, n1, d_nm, n2, lambda_nm)
+    film_r4x2_lanes(cos_a, cos_b, f)
 }
 
-/// [`film_r4x2`] compiled for AVX-512: the eight lanes in one register.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f")]
-unsafe fn film_r4x2_avx512(
-    cos_a: f64,
-    cos_b: f64,
-    n0: F4,
-    n1: F4,
-    d_nm: f64,
-    n2: F4,
-    lambda_nm: F4,
-) -> (F4, F4) {
-    film_r4x2_lanes(cos_a, cos_b, n0, n1, d_nm, n2, lambda_nm)
+/// [`film_r4x2`] compiled for an instruction set: AVX-512 holds the eight lanes in one
+/// register, AVX2 in two.
+macro_rules! film_r4x2_for {
+    ($($name:ident: $feature:literal),*) => {$(
+        #[cfg(target_arch = "x86_64")]
+        #[target_feature(enable = $feature)]
+        unsafe fn $name(cos_a: f64, cos_b: f64, f: &RealFilm) -> (F4, F4) {
+            film_r4x2_lanes(cos_a, cos_b, f)
+        }
+    )*};
 }
-
-/// [`film_r4x2`] compiled for AVX2: the eight lanes in two registers.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-unsafe fn film_r4x2_avx2(
-    cos_a: f64,
-    cos_b: f64,
-    n0: F4,
-    n1: F4,
-    d_nm: f64,
-    n2: F4,
-    lambda_nm: F4,
-) -> (F4, F4) {
-    film_r4x2_lanes(cos_a, cos_b, n0, n1, d_nm, n2, lambda_nm)
-}
+film_r4x2_for!(film_r4x2_avx512: "avx512f", film_r4x2_avx2: "avx2");
 
 #[inline(always)]
-fn film_r4x2_lanes(
-    cos_a: f64,
-    cos_b: f64,
-    n0: F4,
-    n1: F4,
-    d_nm: f64,
-    n2: F4,
-    lambda_nm: F4,
-) -> (F4, F4) {
+fn film_r4x2_lanes(cos_a: f64, cos_b: f64, f: &RealFilm) -> (F4, F4) {
+    let RealFilm {
+        n0,
+        n1,
+        d_nm,
+        n2,
+        lambda_nm,
+    } = *f;
     // Written with loops, not `array::from_fn`/`map`, which are not inlined into
     // `#[target_feature]` functions.
     let (mut cos, mut m0, mut m1, mut m2, mut l) =
@@ -536,22 +521,18 @@ mod tests {
         // the fallbacks are exercised on any machine. Cosines include grazing, 0 and total
         // internal reflection (n0 = 1.45 over air), where one half falls back to `film_r`.
         let fine = |a: F4, b: F4| a.map(f64::to_bits) == b.map(f64::to_bits);
-        type Pair = fn(f64, f64, F4, F4, f64, F4, F4) -> (F4, F4);
+        type Pair = fn(f64, f64, &RealFilm) -> (F4, F4);
         let mut builds: Vec<(&str, Pair)> =
             vec![("dispatch", film_r4x2), ("lanes", film_r4x2_lanes)];
         #[cfg(target_arch = "x86_64")]
         {
             if std::arch::is_x86_feature_detected!("avx2") {
                 // SAFETY: AVX2 checked just above.
-                builds.push(("avx2", |a, b, n0, n1, d, n2, l| unsafe {
-                    film_r4x2_avx2(a, b, n0, n1, d, n2, l)
-                }));
+                builds.push(("avx2", |a, b, f| unsafe { film_r4x2_avx2(a, b, f) }));
             }
             if std::arch::is_x86_feature_detected!("avx512f") {
                 // SAFETY: AVX-512F checked just above.
-                builds.push(("avx512", |a, b, n0, n1, d, n2, l| unsafe {
-                    film_r4x2_avx512(a, b, n0, n1, d, n2, l)
-                }));
+                builds.push(("avx512", |a, b, f| unsafe { film_r4x2_avx512(a, b, f) }));
             }
         }
         let n1 = [1.56, 1.57, 1.58, 1.59];
@@ -565,7 +546,14 @@ mod tests {
                         film_r4(b, n0, n1, d, n2, lambda),
                     );
                     for (name, f) in &builds {
-                        let got = f(a, b, n0, n1, d, n2, lambda);
+                        let film = RealFilm {
+                            n0,
+                            n1,
+                            d_nm: d,
+                            n2,
+                            lambda_nm: lambda,
+                        };
+                        let got = f(a, b, &film);
                         assert!(
                             fine(got.0, want.0) && fine(got.1, want.1),
                             "{name}: cos {a}, {b}, d {d}: {got:?} vs {want:?}"

@@ -146,6 +146,13 @@ impl Sphere {
         let a = d.length_squared();
         let b = f.dot(d); // half of the usual b
         let c = f.length_squared() - r * r;
+        // From outside or on the sphere (c ≥ 0) moving away from its centre (b ≥ 0) both roots
+        // are ≤ 0: q below is ≤ 0, so c / q ≤ 0 and q / a ≤ 0, and the code below would
+        // return `None` too (bit for bit the same answer), without its square root and
+        // divisions. Every ray leaving a sphere's surface outwards is such a ray.
+        if b >= 0.0 && c >= 0.0 {
+            return None;
+        }
         // b² − ac computed as a·(r² − |f − (b/a) d|²) avoids cancellation for distant spheres.
         let l = f - (b / a) * d;
         let disc = a * (r * r - l.length_squared());

@@ -5,7 +5,7 @@
 //! reflections are in `integrals.rs`.
 
 use crate::bsdf::fresnel::fresnel_dielectric;
-use crate::optics::thinfilm::{film_r4, film_r4x2};
+use crate::optics::thinfilm::{film_r4, film_r4x2, RealFilm};
 use crate::spectrum::{SampledSpectrum, N};
 
 /// The reflectance of the smooth coat: a bare dielectric, or a dielectric under a thin film.
@@ -49,15 +49,14 @@ impl CoatOptics {
                 lambda,
             } => {
                 let lane = |a: [f32; N]| [a[0] as f64, a[1] as f64, a[2] as f64, a[3] as f64];
-                let (a, b) = film_r4x2(
-                    mu_a as f64,
-                    mu_b as f64,
-                    [1.0; N],
-                    lane(film_ior),
-                    thickness_nm as f64,
-                    [eta as f64; N],
-                    lane(lambda),
-                );
+                let film = RealFilm {
+                    n0: [1.0; N],
+                    n1: lane(film_ior),
+                    d_nm: thickness_nm as f64,
+                    n2: [eta as f64; N],
+                    lambda_nm: lane(lambda),
+                };
+                let (a, b) = film_r4x2(mu_a as f64, mu_b as f64, &film);
                 let sp = |r: [f64; N]| {
                     SampledSpectrum([r[0] as f32, r[1] as f32, r[2] as f32, r[3] as f32])
                 };
