@@ -209,12 +209,41 @@ pub(crate) fn film_integrals(
 /// The table's key for the film index: rounded to 1e-4 (a phase change below 2e-3 rad for
 /// d ≤ 2 µm).
 fn film_index_key(film_ior: [f32; N]) -> [i32; N] {
-    film_ior.map(|n| (n * 1e4).round() as i32)
+    let k = |n: f32| round_half_up(n * 1e4) as i32;
+    [
+        k(film_ior[0]),
+        k(film_ior[1]),
+        k(film_ior[2]),
+        k(film_ior[3]),
+    ]
+}
+
+/// `x.floor()` for x ≥ 0 (a thickness, a wavelength) by the truncating conversion, not the
+/// C library's `floorf` (the baseline build has no `roundss`), bit for bit; beyond 2²⁴, where
+/// every f32 is an integer, x itself.
+#[inline]
+fn floor_nonneg(x: f32) -> f32 {
+    if x < 16_777_216.0 {
+        (x as i32) as f32
+    } else {
+        x.floor()
+    }
+}
+
+/// `x.round()` for x ≥ 0 (halves up, as `round` takes them away from zero), without the C
+/// library's `roundf`, which the baseline x86-64 build calls (no SSE4.1 `roundss`) and which
+/// was 0.8 % of a render of the thin-film benchmark sphere: x + ½ is exact in f64 and the
+/// truncating conversion (one instruction, unlike `trunc`) is its floor. Negative x (no index
+/// or depth here) round halves towards zero instead; NaN gives 0, as `round` then `as` does.
+#[inline]
+fn round_half_up(x: f32) -> i64 {
+    (x as f64 + 0.5) as i64
 }
 
 /// The table's key for the optical depth: rounded to 1e-3 (|ΔE/E| ≤ 1e-3).
 fn tau_key(tau: SampledSpectrum) -> [u32; N] {
-    tau.0.map(|t| (t.max(0.0) * 1e3).round() as u32)
+    let k = |t: f32| round_half_up(t.max(0.0) * 1e3) as u32;
+    [k(tau[0]), k(tau[1]), k(tau[2]), k(tau[3])]
 }
 
 /// The film-integral table's hasher: its keys are a few small integers made by the renderer,
@@ -319,7 +348,8 @@ fn film_integrals_tabulated(
 ) -> (SampledSpectrum, SampledSpectrum, f32) {
     let (eta, _, thickness_nm, lambda) = coat.film_parts();
     let d = thickness_nm.max(0.0);
-    let (d0, fd) = (d.floor(), d - d.floor());
+    let d0 = floor_nonneg(d);
+    let fd = d - d0;
     let value = |dd: f32, l: i32| {
         let (e, r, k) = film_integrals_1(
             eta as f64,
@@ -341,7 +371,8 @@ fn film_integrals_tabulated(
             let row = t.row((eta.to_bits(), film_q, tau_q, (d0 + dd) as i32));
             for i in 0..N {
                 let l = lambda[i];
-                let (l0, fl) = (l.floor(), l - l.floor());
+                let l0 = floor_nonneg(l);
+                let fl = l - l0;
                 for (dl, wl) in [(0.0, 1.0 - fl), (1.0, fl)] {
                     let w = wd * wl;
                     if w == 0.0 {
