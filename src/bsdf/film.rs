@@ -82,7 +82,17 @@ impl FilmSpec {
             ext: self.ext_ior,
             d_nm: if d.is_finite() { d.max(0.0) } else { 0.0 },
             spectral: self.samples(wl.lambda),
-            thesis: self.samples(THESIS_LAMBDA),
+            // Only the thesis mode reads these; a spectral film (made at every shading point)
+            // does not evaluate its indices at three more wavelengths.
+            thesis: match self.mode {
+                FilmMode::Thesis => self.samples(THESIS_LAMBDA),
+                FilmMode::Spectral => FilmSamples {
+                    lambda: THESIS_LAMBDA,
+                    film: [0.0; 3],
+                    base_n: [0.0; 3],
+                    base_k: [0.0; 3],
+                },
+            },
             mode: self.mode,
         }
     }

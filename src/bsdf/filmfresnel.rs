@@ -66,7 +66,8 @@ pub struct FilmFresnel {
     pub d_nm: f32,
     /// Constants at the path's wavelengths.
     pub spectral: FilmSamples<N>,
-    /// Constants at [`THESIS_LAMBDA`] (used in thesis mode).
+    /// Constants at [`THESIS_LAMBDA`] (used in thesis mode; zero indices in spectral mode, as
+    /// `FilmSpec::fresnel` makes them).
     pub thesis: FilmSamples<3>,
     pub mode: FilmMode,
 }
