@@ -209,7 +209,8 @@ pub(crate) fn film_integrals(
 /// The table's key for the film index: rounded to 1e-4 (a phase change below 2e-3 rad for
 /// d ≤ 2 µm).
 fn film_index_key(film_ior: [f32; N]) -> [i32; N] {
-    let k = |n: f32| round_half_up(n * 1e4) as i32;
+    // Saturating, as `f32 as i32` did (an `i64 as i32` would wrap).
+    let k = |n: f32| round_half_up(n * 1e4).clamp(i32::MIN as i64, i32::MAX as i64) as i32;
     [
         k(film_ior[0]),
         k(film_ior[1]),
@@ -240,9 +241,11 @@ fn round_half_up(x: f32) -> i64 {
     (x as f64 + 0.5) as i64
 }
 
-/// The table's key for the optical depth: rounded to 1e-3 (|ΔE/E| ≤ 1e-3).
+/// The table's key for the optical depth: rounded to 1e-3 (|ΔE/E| ≤ 1e-3); saturates at 2³² − 1
+/// (τ ≈ 4·10⁶, opaque).
 fn tau_key(tau: SampledSpectrum) -> [u32; N] {
-    let k = |t: f32| round_half_up(t.max(0.0) * 1e3) as u32;
+    // Saturating, as `f32 as u32` did: an opaque slab's τ · 1e3 can pass 2³².
+    let k = |t: f32| round_half_up(t.max(0.0) * 1e3).clamp(0, u32::MAX as i64) as u32;
     [k(tau[0]), k(tau[1]), k(tau[2]), k(tau[3])]
 }
 
@@ -403,4 +406,37 @@ fn film_integrals_tabulated(
         k_sum += a[2];
     }
     (escape, ret, k_sum / N as f32)
+}
+
+#[cfg(test)]
+mod key_tests {
+    use super::*;
+
+    #[test]
+    fn keys_and_floors_are_the_library_roundings() {
+        // The table's keys and its interpolation's floors, computed without the C library,
+        // equal `round`/`floor` then a saturating cast on the values they take (non-negative),
+        // halves included, and saturate where those did.
+        let mut next = crate::math::rng::uniform_f64s(5);
+        let mut xs: Vec<f32> = (0..20000).map(|_| (next() * 3000.0) as f32).collect();
+        xs.extend([
+            0.0,
+            0.5,
+            1.5,
+            2.5,
+            1e4 + 0.5,
+            0.499_999_97,
+            16_777_215.0,
+            3e7,
+            1e12,
+        ]);
+        for x in xs {
+            assert_eq!(floor_nonneg(x).to_bits(), x.floor().to_bits(), "floor {x}");
+            let want_i = (x * 1e4).round() as i32;
+            assert_eq!(film_index_key([x; N])[0], want_i, "index key {x}");
+            let want_u = (x * 1e3).round() as u32;
+            assert_eq!(tau_key(SampledSpectrum::splat(x))[0], want_u, "tau key {x}");
+        }
+        assert_eq!(tau_key(SampledSpectrum::splat(f32::NAN))[0], 0);
+    }
 }
