@@ -1,5 +1,6 @@
 //! Sample generators: independent uniform (PCG32) and Owen-scrambled Sobol (Burley 2020,
-//! "Practical Hash-based Owen Scrambling", JCGT 9(4), via the `sobol_burley` crate).
+//! "Practical Hash-based Owen Scrambling", JCGT 9(4): the `sobol_burley` crate's values, four
+//! dimensions at a time from tables in `sets.rs`).
 //!
 //! Every pixel sample starts from a state derived only from (seed, pixel, sample index), so an
 //! image is bit-identical whatever the number of threads or the order of tiles.
@@ -74,7 +75,8 @@ pub(crate) const CAMERA_DIMS: u32 = 8;
 /// the pixel's seed, the sample index and the next dimension. The wavefront integrator keeps
 /// one per path and draws from it directly.
 ///
-/// Sobol values are computed a set of four dimensions at a time (`sobol_burley::sample_4d`);
+/// Sobol values are computed a set of four dimensions at a time ([`sets::sample_4d`], the
+/// values of `sobol_burley::sample_4d` from tables);
 /// the set last computed is kept here, so consecutive draws from one state share it. It is a cache only: [`SamplerState::parts`]
 /// leaves it out and [`SamplerState::from_parts`] starts without it, and equality ignores it.
 #[derive(Clone, Copy, Debug)]
