@@ -75,7 +75,7 @@ pub(crate) const CAMERA_DIMS: u32 = 8;
 /// the pixel's seed, the sample index and the next dimension. The wavefront integrator keeps
 /// one per path and draws from it directly.
 ///
-/// Sobol values are computed a set of four dimensions at a time ([`sets::sample_4d`], the
+/// Sobol values are computed a set of four dimensions at a time (`sets::sample_4d`, the
 /// values of `sobol_burley::sample_4d` from tables);
 /// the set last computed is kept here, so consecutive draws from one state share it. It is a cache only: [`SamplerState::parts`]
 /// leaves it out and [`SamplerState::from_parts`] starts without it, and equality ignores it.
