@@ -43,3 +43,4 @@ pub(crate) mod simd4;
 pub mod stackeval;
 pub mod stackspec;
 pub mod thinfilm;
+mod thinfilm_lanes;
