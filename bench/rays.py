@@ -19,7 +19,10 @@ independently by each program from the same distributions, not bit for bit the s
 The two are timed in turn, `--rounds` times (absolute speeds on a shared machine drift by up to
 2× within minutes); the ratio of each round's pair is printed as the median and range.
 
+`--scene cornell-box` traces the same rays through the room with three spheres instead.
+
 usage: python3 bench/rays.py [--side 512] [--repeat 3] [--rounds 3] [--variant llvm_ad_rgb]
+                             [--scene cornell-mesh|cornell-box]
 """
 import argparse
 import os
@@ -30,17 +33,19 @@ import sys
 import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-SCENE = os.path.join(ROOT, "scenes", "cornell-mesh.xml")
+SCENES = {"cornell-mesh": "cornell-mesh (1M triangles)",
+          "cornell-box": "cornell-box (16 triangles, 3 spheres)"}
 MESH = os.path.join(ROOT, "target", "bench", "blob.ply")
 
 
-def mitsuba_setup(variant, side):
+def mitsuba_setup(scene, variant, side):
     """The scene and its rays, loaded once; returns a function that times them."""
     import drjit as dr
     import mitsuba as mi
     mi.set_variant(variant)
     dr.set_thread_count(1)
-    sc = mi.load_file(SCENE, mesh=MESH, res=side, spp=1)
+    extra = {"mesh": MESH} if "mesh" in scene else {}
+    sc = mi.load_file(scene, res=side, spp=1, **extra)
     n = side * side
     idx = dr.arange(mi.UInt32, n)
     x, y = mi.Float(idx % side) + 0.5, mi.Float(idx // side) + 0.5
@@ -79,12 +84,12 @@ def mitsuba_setup(variant, side):
     return measure
 
 
-def ophis(side, repeat):
+def ophis(scene, side, repeat):
     exe = os.path.join(ROOT, "target", "release", "examples", "bench_accel")
     if not os.path.exists(exe):
         subprocess.run(["cargo", "build", "--release", "--quiet", "--example", "bench_accel"],
                        cwd=ROOT, check=True)
-    p = subprocess.run([exe, "--scene", SCENE, "-D", f"mesh={MESH}", "--side", str(side),
+    p = subprocess.run([exe, "--scene", scene, "-D", f"mesh={MESH}", "--side", str(side),
                         "--repeat", str(repeat)], capture_output=True, text=True, cwd=ROOT)
     if p.returncode != 0:
         sys.exit("bench_accel failed:\n" + p.stderr)
@@ -103,15 +108,17 @@ def main():
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("--variant", default="llvm_ad_rgb")
+    ap.add_argument("--scene", default="cornell-mesh", choices=sorted(SCENES))
     a = ap.parse_args()
+    scene = os.path.join(ROOT, "scenes", a.scene + ".xml")
     if not os.path.exists(MESH):
         subprocess.run([sys.executable, os.path.join(ROOT, "bench", "make_mesh.py"), MESH], check=True)
-    measure = mitsuba_setup(a.variant, a.side)
+    measure = mitsuba_setup(scene, a.variant, a.side)
     kinds = ("camera", "bounce", "shadow")
     rounds = []
     for _ in range(a.rounds):
-        rounds.append((ophis(a.side, a.repeat), measure(a.repeat)))
-    print(f"{time.strftime('%Y-%m-%d')}: cornell-mesh (1M triangles), {a.side}² camera rays, one "
+        rounds.append((ophis(scene, a.side, a.repeat), measure(a.repeat)))
+    print(f"{time.strftime('%Y-%m-%d')}: {SCENES[a.scene]}, {a.side}² camera rays, one "
           f"thread, Mrays/s of CPU time (best of {a.repeat}), {a.rounds} rounds: median (min–max)")
     print(f"  {'rays':<8} {'ophis':>20} {'mitsuba ' + a.variant:>24} {'ophis ÷ mitsuba':>20}")
 

@@ -6,7 +6,7 @@
 //! a lane id: a triangle's global index, or a flagged shape index for a sphere or disk). A
 //! top-down binned-SAH build reorders the refs and groups them straight into 8-wide nodes,
 //! splitting the child with the largest surface area until a node has eight; leaves hold at
-//! most eight primitives, and the cost model counts them in blocks of four (the bins and the
+//! most sixteen primitives, and the cost model counts them in blocks of four (the bins and the
 //! cost model are in `bins.rs`). Large ranges bin in parallel chunks and subtrees build in
 //! parallel, deterministically.
 //!
