@@ -7,7 +7,7 @@
 //! collapse of a binary SAH tree, without building the binary tree). The cost model counts
 //! leaf primitives in blocks of four ([`super::block`]): a leaf of five costs as much as one of
 //! eight, which steers leaves towards full blocks. A split that starts a new node is charged
-//! the whole node test ([`NODE_COST`]), not one lane's share: a range of 9–16 primitives then
+//! the whole node test (`NODE_COST`), not one lane's share: a range of 9–16 primitives then
 //! becomes one leaf of up to four blocks rather than a node with two leaves in its eight lanes
 //! (on the 1M-triangle benchmark mesh, 47 % of the nodes had been such nodes).
 //!

@@ -10,6 +10,9 @@
 //! 1. **refills** the pool: new jobs draw their wavelengths, filter offset and lens sample
 //!    and get their camera ray, exactly as [`crate::render`]'s scalar loop does;
 //! 2. **traces** every live path's ray in one batch ([`crate::accel::Bvh::intersect_raw_n`]);
+//!    where the scene has no infinite light, paths whose ray escaped end here (they are
+//!    retired and removed, as in step 5), and the others are **grouped** by what they hit
+//!    (`group.rs`), so that a chunk of lanes mostly runs one material's code;
 //! 3. **shades** the pool in chunks of lanes ([`vertex::shade_chunk`]): hits that
 //!    [`program::Program`] marks (the materials and lights the lanes implement) run the vertex
 //!    in lanes, the rest run the scalar estimator ([`PathState::escape`] /
@@ -54,6 +57,7 @@ macro_rules! spec {
 
 mod bsdf;
 mod ends;
+mod group;
 mod lookup;
 mod nee;
 mod pool;
@@ -200,11 +204,25 @@ fn run<F: Float>(
         }
         let n = pool.n;
 
-        // 2. Trace.
+        // 2. Trace (and group the paths by what they hit).
         pool.rays_into(&mut rays);
         scene
             .bvh
             .intersect_raw_n(&scene.shapes, &rays, &mut pool.hit[..n]);
+        // With nothing beyond the scene an escaped path ends with what it has: it leaves now,
+        // so that the chunks shaded next hold only paths with work to do.
+        if scene.infinite_lights.is_empty() {
+            dead.clear();
+            dead.extend((0..n as u32).filter(|&i| pool.hit[i as usize].is_none()));
+            for chunk in dead.chunks(F::LANES) {
+                ends::retire::<F>(&pool, chunk, &mut results);
+            }
+            if !dead.is_empty() {
+                pool.remove_escaped();
+            }
+        }
+        let n = pool.n;
+        pool.group(&prog.shape_class);
         pool.spread_hits();
 
         // 3. Shade.

@@ -284,6 +284,24 @@ impl Pool {
         );
     }
 
+    /// Removes the paths whose ray escaped (after tracing, before shading), filling each hole
+    /// with the last path, its hit included.
+    pub fn remove_escaped(&mut self) {
+        let mut i = 0;
+        while i < self.n {
+            if self.hit[i].is_some() {
+                i += 1;
+                continue;
+            }
+            self.n -= 1;
+            let last = self.n;
+            if i != last {
+                self.move_path(last, i);
+                self.hit[i] = self.hit[last];
+            }
+        }
+    }
+
     /// Removes the paths whose `alive` is 0, filling each hole with the last path (only
     /// dead paths cost a move).
     pub fn compact(&mut self) {

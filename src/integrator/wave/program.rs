@@ -31,6 +31,21 @@ pub(super) const MAT_CONDUCTOR: u32 = 2;
 /// `roughconductor` with GGX.
 pub(super) const MAT_ROUGH_CONDUCTOR: u32 = 3;
 
+/// Groups of paths that share their shading code: hits on a lane material, by its kind and
+/// whether the shape is a mesh (`2 · kind + mesh`), and the paths the scalar code shades
+/// (other hits, and escaped rays). The pool is ordered by group before shading
+/// ([`super::pool::Pool::group`]), so that a chunk of lanes mostly runs one material's code
+/// on one kind of surface.
+pub(super) const CLASSES: usize = 9;
+/// [`CLASSES`]: paths the lanes do not shade.
+pub(super) const CLASS_SCALAR: u8 = 8;
+
+/// The group of a lane hit on a material of kind `kind` (`MAT_*`).
+fn shade_class(kind: u32, mesh: bool) -> u8 {
+    debug_assert!(kind <= MAT_ROUGH_CONDUCTOR);
+    (2 * kind + mesh as u32) as u8
+}
+
 /// Spectra the lanes can evaluate: a constant, an RGB uplift (Jakob–Hanika sigmoid
 /// polynomial) with its scale and, for emission, the D65 factor, or a tabulated curve.
 #[derive(Debug, Default)]
@@ -87,6 +102,8 @@ pub struct Program {
     pub(super) shape_mat: Vec<u32>,
     /// Per shape: 1 + the light it is, or 0.
     pub(super) shape_emit: Vec<u32>,
+    /// Per shape: the group its hits are shaded with ([`shade_class`]).
+    pub(super) shape_class: Vec<u8>,
     /// The materials the lanes implement.
     pub(super) mats: MaterialTable,
     /// Per light: 1 for an area light on a triangle mesh with a spectrum the lanes evaluate
@@ -156,6 +173,12 @@ impl Program {
                 shape_lanes[s] = emission_ok as u32;
             }
         }
+        let shape_class = (0..n_shapes)
+            .map(|s| match shape_lanes[s] {
+                0 => CLASS_SCALAR,
+                _ => shade_class(mats.kind[shape_mat[s] as usize], shape_mesh[s] == 1),
+            })
+            .collect();
         // Lanes that do not use a table still gather from it (at index 0).
         if mats.kind.is_empty() {
             mats.push(MAT_DIFFUSE, [0; 4], [0.0; 4]);
@@ -178,6 +201,7 @@ impl Program {
             shape_mesh,
             shape_mat,
             shape_emit,
+            shape_class,
             mats,
             light_lanes,
             light_pmf,
