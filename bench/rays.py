@@ -34,7 +34,7 @@ import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SCENES = {"cornell-mesh": "cornell-mesh (1M triangles)",
-          "cornell-box": "cornell-box (16 triangles, 3 spheres)"}
+          "cornell-box": "cornell-box (12 triangles, 3 spheres)"}
 MESH = os.path.join(ROOT, "target", "bench", "blob.ply")
 
 
