@@ -15,7 +15,7 @@
 //! of every column cost more than the divergence it removed (measured: 10 % of the Cornell
 //! box's render, against 15 % saved in shading).
 
-use super::pool::{Pool, CAP, POOL};
+use super::pool::{path_columns, Pool, CAP, POOL};
 use super::program::{CLASSES, CLASS_SCALAR};
 
 impl Pool {
@@ -25,37 +25,12 @@ impl Pool {
         // Checked once: every column has length CAP.
         assert!(i < CAP && j < CAP);
         macro_rules! sw {
-            ($($a:expr),*) => { $( $a.swap(i, j); )* };
+            ($a:expr) => {
+                $a.swap(i, j)
+            };
         }
-        for a in 0..3 {
-            sw!(self.o[a], self.d[a], self.prev_p[a], self.prev_n[a]);
-        }
-        for k in 0..4 {
-            sw!(
-                self.l[k],
-                self.beta[k],
-                self.lambda[k],
-                self.wl_pdf[k],
-                self.d65[k]
-            );
-        }
-        sw!(
-            self.t_max,
-            self.eta_scale,
-            self.prev_pdf,
-            self.env_by_bsdf,
-            self.path_length,
-            self.specular,
-            self.depth,
-            self.null_crossings,
-            self.rng_state,
-            self.rng_inc,
-            self.pixel_seed,
-            self.sample_index,
-            self.dim,
-            self.job,
-            self.hit
-        );
+        path_columns!(self, sw);
+        self.hit.swap(i, j);
     }
 
     /// Orders the live paths by the group of their hit (`class[shape]`; escaped rays are

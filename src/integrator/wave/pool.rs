@@ -33,6 +33,42 @@ fn spectra() -> Spectra {
     std::array::from_fn(|_| col(0.0))
 }
 
+/// Applies the macro `$op` to every per-path column of the pool `$p` but the hit and `alive`:
+/// the one list that moving ([`Pool::move_path`]) and exchanging paths (`group.rs`) go by, so
+/// that neither can miss a field.
+macro_rules! path_columns {
+    ($p:expr, $op:ident) => {{
+        for a in 0..3 {
+            $op!($p.o[a]);
+            $op!($p.d[a]);
+            $op!($p.prev_p[a]);
+            $op!($p.prev_n[a]);
+        }
+        for k in 0..4 {
+            $op!($p.l[k]);
+            $op!($p.beta[k]);
+            $op!($p.lambda[k]);
+            $op!($p.wl_pdf[k]);
+            $op!($p.d65[k]);
+        }
+        $op!($p.t_max);
+        $op!($p.eta_scale);
+        $op!($p.prev_pdf);
+        $op!($p.env_by_bsdf);
+        $op!($p.path_length);
+        $op!($p.specular);
+        $op!($p.depth);
+        $op!($p.null_crossings);
+        $op!($p.rng_state);
+        $op!($p.rng_inc);
+        $op!($p.pixel_seed);
+        $op!($p.sample_index);
+        $op!($p.dim);
+        $op!($p.job);
+    }};
+}
+pub(super) use path_columns;
+
 /// The live paths; see the module header.
 pub(super) struct Pool {
     /// Number of live paths.
@@ -252,71 +288,49 @@ impl Pool {
         // Checked once: every column has length CAP.
         assert!(from < CAP && to < CAP);
         macro_rules! mv {
-            ($($a:expr),*) => { $( $a[to] = $a[from]; )* };
+            ($a:expr) => {
+                $a[to] = $a[from]
+            };
         }
-        for a in 0..3 {
-            mv!(self.o[a], self.d[a], self.prev_p[a], self.prev_n[a]);
+        path_columns!(self, mv);
+    }
+
+    /// Removes the paths for which `gone` holds, filling each hole with the last path (only
+    /// removed paths cost a move); `also` copies what [`Pool::move_path`] does not and the
+    /// next step needs.
+    fn remove(
+        &mut self,
+        gone: impl Fn(&Pool, usize) -> bool,
+        also: impl Fn(&mut Pool, usize, usize),
+    ) {
+        let mut i = 0;
+        while i < self.n {
+            if !gone(self, i) {
+                i += 1;
+                continue;
+            }
+            self.n -= 1;
+            let last = self.n;
+            if i != last {
+                self.move_path(last, i);
+                also(self, last, i);
+            }
         }
-        for k in 0..4 {
-            mv!(
-                self.l[k],
-                self.beta[k],
-                self.lambda[k],
-                self.wl_pdf[k],
-                self.d65[k]
-            );
-        }
-        mv!(
-            self.t_max,
-            self.eta_scale,
-            self.prev_pdf,
-            self.env_by_bsdf,
-            self.path_length,
-            self.specular,
-            self.depth,
-            self.null_crossings,
-            self.rng_state,
-            self.rng_inc,
-            self.pixel_seed,
-            self.sample_index,
-            self.dim,
-            self.job
+    }
+
+    /// Removes the paths whose ray escaped (after tracing, before shading), their hits kept.
+    pub fn remove_escaped(&mut self) {
+        self.remove(
+            |p, i| p.hit[i].is_none(),
+            |p, from, to| p.hit[to] = p.hit[from],
         );
     }
 
-    /// Removes the paths whose ray escaped (after tracing, before shading), filling each hole
-    /// with the last path, its hit included.
-    pub fn remove_escaped(&mut self) {
-        let mut i = 0;
-        while i < self.n {
-            if self.hit[i].is_some() {
-                i += 1;
-                continue;
-            }
-            self.n -= 1;
-            let last = self.n;
-            if i != last {
-                self.move_path(last, i);
-                self.hit[i] = self.hit[last];
-            }
-        }
-    }
-
-    /// Removes the paths whose `alive` is 0, filling each hole with the last path (only
-    /// dead paths cost a move).
+    /// Removes the paths whose `alive` is 0 (after shading).
     pub fn compact(&mut self) {
-        let mut i = 0;
-        while i < self.n {
-            if self.alive[i] != 0 {
-                i += 1;
-                continue;
-            }
-            self.n -= 1;
-            let last = self.n;
-            if i != last {
-                self.move_path(last, i);
-                self.alive[i] = self.alive[last];
-            }
-        }
+        self.remove(
+            |p, i| p.alive[i] == 0,
+            |p, from, to| p.alive[to] = p.alive[from],
+        );
     }
 }
