@@ -59,7 +59,8 @@ macro_rules! memory {
         fn load_at(s: &[$e], i: usize) -> Self;
         /// Stores lanes to `s[i..i + LANES]` (one bounds check).
         fn store_at(self, s: &mut [$e], i: usize);
-        /// `s[idx[i]]` in lane i (indices must be in bounds; checked in debug builds).
+        /// `s[idx[i]]` in lane i. Panics if an index is out of bounds (all lanes are
+        /// checked at once: one compare and one branch beside the gather).
         fn gather(s: &[$e], idx: $idx) -> Self;
         /// Lane `i`.
         fn lane(self, i: usize) -> $lane;

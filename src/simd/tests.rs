@@ -6,6 +6,7 @@
 
 use super::{Float, Int, Mask};
 use crate::math::Pcg32;
+use std::panic::AssertUnwindSafe;
 
 /// Values that exercise the corners of IEEE arithmetic, then random ones of all magnitudes.
 fn values(rng: &mut Pcg32, n: usize) -> Vec<f32> {
@@ -170,4 +171,49 @@ fn eight_lanes_equal_one() {
 #[test]
 fn sixteen_lanes_equal_one() {
     on_avx512!({ check::<super::F16>(&mut Pcg32::new(5, 6)) });
+}
+
+/// A gather reads the table where every index is in bounds, and panics, rather than reading
+/// outside the table, where one lane's index is past the end or negative.
+fn gathers_check_their_indices<F: Float>() {
+    let n = F::LANES;
+    let t: Vec<f32> = (0..40).map(|i| i as f32 * 0.5).collect();
+    let u: Vec<u32> = (0..40).map(|i| i * 3).collect();
+    let idx: Vec<u32> = (0..n as u32).map(|i| 39 - 2 * i).collect();
+    let i = F::I::load(&idx);
+    for (k, &j) in idx.iter().enumerate() {
+        assert_eq!(F::gather(&t, i).lane(k), t[j as usize]);
+        assert_eq!(F::I::gather(&u, i).lane(k), u[j as usize] as i32);
+    }
+    for bad in [40u32, u32::MAX, 1 << 31] {
+        for lane in [0, n - 1] {
+            let mut b = idx.clone();
+            b[lane] = bad;
+            let i = F::I::load(&b);
+            let caught = |f: &dyn Fn()| std::panic::catch_unwind(AssertUnwindSafe(f)).is_err();
+            let f = caught(&|| {
+                std::hint::black_box(F::gather(&t, i).lane(0));
+            });
+            let g = caught(&|| {
+                std::hint::black_box(F::I::gather(&u, i).lane(0));
+            });
+            assert!(f && g, "index {bad} in lane {lane}");
+        }
+    }
+    let empty: [f32; 0] = [];
+    let zero = F::I::splat(0);
+    let read = AssertUnwindSafe(|| {
+        std::hint::black_box(F::gather(&empty, zero).lane(0));
+    });
+    assert!(std::panic::catch_unwind(read).is_err());
+}
+
+#[test]
+fn gathers_check_their_indices_in_every_lane_type() {
+    gathers_check_their_indices::<f32>();
+    #[cfg(target_arch = "x86_64")]
+    {
+        on_avx2!({ gathers_check_their_indices::<super::F8>() });
+        on_avx512!({ gathers_check_their_indices::<super::F16>() });
+    }
 }

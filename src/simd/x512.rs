@@ -89,6 +89,24 @@ impl Mask for M16 {
     }
 }
 
+/// Panics unless every lane of `idx` is an index below `len` (as an unsigned number, so a
+/// negative index fails too; `len` is capped at `i32::MAX`, the gathers' signed range).
+#[inline(always)]
+fn check_gather(idx: I16, len: usize) {
+    let len = len.min(i32::MAX as usize) as i32;
+    // SAFETY: AVX-512 F is enabled wherever these lanes are used (see the module header).
+    let ok = unsafe { _mm512_cmplt_epu32_mask(idx.0, _mm512_set1_epi32(len)) };
+    if ok != u16::MAX {
+        gather_out_of_bounds(len);
+    }
+}
+
+#[cold]
+#[inline(never)]
+fn gather_out_of_bounds(len: i32) -> ! {
+    panic!("gather: an index is out of bounds for a table of {len}")
+}
+
 impl Int for I16 {
     type M = M16;
     #[inline(always)]
@@ -125,7 +143,8 @@ impl Int for I16 {
     }
     #[inline(always)]
     fn gather(s: &[u32], idx: I16) -> I16 {
-        debug_assert!((0..16).all(|i| (idx.lane(i) as u32 as usize) < s.len()));
+        check_gather(idx, s.len());
+        // SAFETY: every index is in bounds (checked above).
         unsafe { I16(_mm512_i32gather_epi32::<4>(idx.0, s.as_ptr() as *const i32)) }
     }
     #[inline(always)]
@@ -200,7 +219,8 @@ impl Float for F16 {
     }
     #[inline(always)]
     fn gather(s: &[f32], idx: I16) -> F16 {
-        debug_assert!((0..16).all(|i| (idx.lane(i) as u32 as usize) < s.len()));
+        check_gather(idx, s.len());
+        // SAFETY: every index is in bounds (checked above).
         unsafe { F16(_mm512_i32gather_ps::<4>(idx.0, s.as_ptr())) }
     }
     #[inline(always)]

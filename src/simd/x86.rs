@@ -91,6 +91,29 @@ binop!(I8, BitAnd, bitand, _mm256_and_si256);
 binop!(I8, BitOr, bitor, _mm256_or_si256);
 binop!(I8, BitXor, bitxor, _mm256_xor_si256);
 
+/// Panics unless every lane of `idx` is an index below `len` (as an unsigned number, so a
+/// negative index fails too; `len` is capped at `i32::MAX`, the gathers' signed range).
+#[inline(always)]
+fn check_gather(idx: I8, len: usize) {
+    let len = len.min(i32::MAX as usize) as i32;
+    // idx < len, unsigned: min(idx, len − 1) = idx in every lane (and no lane when len is 0).
+    // SAFETY: AVX2 is enabled wherever these lanes are used (see the module header).
+    let ok = unsafe {
+        let last = _mm256_set1_epi32(len.wrapping_sub(1));
+        let same = _mm256_cmpeq_epi32(_mm256_min_epu32(idx.0, last), idx.0);
+        _mm256_movemask_ps(_mm256_castsi256_ps(same))
+    };
+    if ok != 0xff || len == 0 {
+        gather_out_of_bounds(len);
+    }
+}
+
+#[cold]
+#[inline(never)]
+fn gather_out_of_bounds(len: i32) -> ! {
+    panic!("gather: an index is out of bounds for a table of {len}")
+}
+
 impl Int for I8 {
     type M = M8;
     #[inline(always)]
@@ -152,7 +175,8 @@ impl Int for I8 {
     }
     #[inline(always)]
     fn gather(s: &[u32], idx: I8) -> I8 {
-        debug_assert!((0..8).all(|i| (idx.lane(i) as u32 as usize) < s.len()));
+        check_gather(idx, s.len());
+        // SAFETY: every index is in bounds (checked above).
         unsafe { I8(_mm256_i32gather_epi32::<4>(s.as_ptr() as *const i32, idx.0)) }
     }
     #[inline(always)]
@@ -237,7 +261,8 @@ impl Float for F8 {
     }
     #[inline(always)]
     fn gather(s: &[f32], idx: I8) -> F8 {
-        debug_assert!((0..8).all(|i| (idx.lane(i) as u32 as usize) < s.len()));
+        check_gather(idx, s.len());
+        // SAFETY: every index is in bounds (checked above).
         unsafe { F8(_mm256_i32gather_ps::<4>(s.as_ptr(), idx.0)) }
     }
     #[inline(always)]
