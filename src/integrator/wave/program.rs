@@ -36,13 +36,14 @@ pub(super) const MAT_ROUGH_CONDUCTOR: u32 = 3;
 /// (other hits, and escaped rays). The pool is ordered by group before shading
 /// ([`super::pool::Pool::group`]), so that a chunk of lanes mostly runs one material's code
 /// on one kind of surface.
-pub(super) const CLASSES: usize = 9;
-/// [`CLASSES`]: paths the lanes do not shade.
-pub(super) const CLASS_SCALAR: u8 = 8;
+pub(super) const CLASSES: usize = 2 * (MAT_ROUGH_CONDUCTOR as usize + 1) + 1;
+/// [`CLASSES`]: paths the lanes do not shade (the last group).
+pub(super) const CLASS_SCALAR: u8 = CLASSES as u8 - 1;
 
-/// The group of a lane hit on a material of kind `kind` (`MAT_*`).
+/// The group of a lane hit on a material of kind `kind` (`MAT_*`, the last of which is
+/// `MAT_ROUGH_CONDUCTOR`).
 fn shade_class(kind: u32, mesh: bool) -> u8 {
-    debug_assert!(kind <= MAT_ROUGH_CONDUCTOR);
+    assert!(kind <= MAT_ROUGH_CONDUCTOR, "material kind {kind} has no group");
     (2 * kind + mesh as u32) as u8
 }
 
