@@ -43,7 +43,10 @@ pub(super) const CLASS_SCALAR: u8 = CLASSES as u8 - 1;
 /// The group of a lane hit on a material of kind `kind` (`MAT_*`, the last of which is
 /// `MAT_ROUGH_CONDUCTOR`).
 fn shade_class(kind: u32, mesh: bool) -> u8 {
-    assert!(kind <= MAT_ROUGH_CONDUCTOR, "material kind {kind} has no group");
+    assert!(
+        kind <= MAT_ROUGH_CONDUCTOR,
+        "material kind {kind} has no group"
+    );
     (2 * kind + mesh as u32) as u8
 }
 
