@@ -172,15 +172,26 @@ pub(crate) fn smooth_normals(positions: &[Vec3], indices: &[[u32; 3]]) -> Vec<Ve
         rayon::current_num_threads().max(1)
     };
     let chunk = positions.len().div_ceil(ranges);
+    // The sums are allocated here, not by the worker threads: memory freed in a worker's
+    // allocator arena is not reused by the later allocations of the scene's build, which
+    // raised the peak of a 4M-triangle scene by 40 MB.
+    let mut acc = vec![glam::DVec3::ZERO; positions.len()];
     out.par_chunks_mut(chunk)
+        .zip(acc.par_chunks_mut(chunk))
         .enumerate()
-        .for_each(|(c, dst)| smooth_normals_of(positions, indices, c * chunk, dst));
+        .for_each(|(c, (dst, acc))| smooth_normals_of(positions, indices, c * chunk, dst, acc));
     out
 }
 
-/// [`smooth_normals`] of the vertices `first .. first + dst.len()`, into `dst`.
-fn smooth_normals_of(positions: &[Vec3], indices: &[[u32; 3]], first: usize, dst: &mut [Vec3]) {
-    let mut acc = vec![glam::DVec3::ZERO; dst.len()];
+/// [`smooth_normals`] of the vertices `first .. first + dst.len()`, into `dst`, summing in
+/// `acc` (zeros, as long as `dst`).
+fn smooth_normals_of(
+    positions: &[Vec3],
+    indices: &[[u32; 3]],
+    first: usize,
+    dst: &mut [Vec3],
+    acc: &mut [glam::DVec3],
+) {
     let mine = |i: u32| (i as usize).wrapping_sub(first) < dst.len();
     for tri in indices {
         if !(mine(tri[0]) || mine(tri[1]) || mine(tri[2])) {
@@ -209,7 +220,7 @@ fn smooth_normals_of(positions: &[Vec3], indices: &[[u32; 3]], first: usize, dst
             acc[tri[k] as usize - first] += n * angle;
         }
     }
-    for (d, n) in dst.iter_mut().zip(acc) {
+    for (d, &n) in dst.iter_mut().zip(acc.iter()) {
         let l = n.length();
         *d = if l > 0.0 && l.is_finite() {
             (n / l).as_vec3()
