@@ -182,6 +182,33 @@ impl TriangleMesh {
         self.positions[k as usize]
     }
 
+    /// Requests the memory of triangle `prim`'s corner indices (for
+    /// [`TriangleMesh::prefetch_attributes`] and [`TriangleMesh::corner_attributes`] soon
+    /// after: on a large mesh each is a cache miss).
+    #[inline]
+    pub(crate) fn prefetch_triangle(&self, prim: u32) {
+        if let Some(t) = self.indices.get(prim as usize) {
+            crate::accel::simd::prefetch(t, 1);
+        }
+    }
+
+    /// Requests the memory of the vertex normals and UVs that
+    /// [`TriangleMesh::corner_attributes`] reads for triangle `prim`.
+    #[inline]
+    pub(crate) fn prefetch_attributes(&self, prim: u32) {
+        let Some(tri) = self.indices.get(prim as usize) else {
+            return;
+        };
+        for &k in tri {
+            if let Some(n) = self.normals.as_ref().and_then(|n| n.get(k as usize)) {
+                crate::accel::simd::prefetch(n, 1);
+            }
+            if let Some(uv) = self.uvs.as_ref().and_then(|uv| uv.get(k as usize)) {
+                crate::accel::simd::prefetch(uv, 1);
+            }
+        }
+    }
+
     /// The UVs of triangle `prim`'s corners (defaults without vertex UVs) and their vertex
     /// normals (if the mesh has them), as [`TriangleMesh::interaction_at`] uses them.
     #[inline]

@@ -209,6 +209,9 @@ fn run<F: Float>(
         scene
             .bvh
             .intersect_raw_n(&scene.shapes, &rays, &mut pool.hit[..n]);
+        if prog.big_meshes {
+            surface::prefetch_meshes(&scene.shapes, &pool.hit[..n], false);
+        }
         // With nothing beyond the scene an escaped path ends with what it has: it leaves now,
         // so that the chunks shaded next hold only paths with work to do.
         if scene.infinite_lights.is_empty() {
@@ -224,6 +227,9 @@ fn run<F: Float>(
         let n = pool.n;
         pool.group(&prog.shape_class);
         pool.spread_hits();
+        if prog.big_meshes {
+            surface::prefetch_meshes(&scene.shapes, &pool.hit[..n], true);
+        }
 
         // 3. Shade.
         shadows.clear();

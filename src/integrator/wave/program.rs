@@ -108,6 +108,9 @@ pub struct Program {
     pub(super) shape_emit: Vec<u32>,
     /// Per shape: the group its hits are shaded with ([`shade_class`]).
     pub(super) shape_class: Vec<u8>,
+    /// Whether a mesh has [`super::surface::BIG_MESH`] triangles or more (its hits' corner data
+    /// are then requested ahead of shading: [`super::surface::prefetch_meshes`]).
+    pub(super) big_meshes: bool,
     /// The materials the lanes implement.
     pub(super) mats: MaterialTable,
     /// Per light: 1 for an area light on a triangle mesh with a spectrum the lanes evaluate
@@ -200,9 +203,14 @@ impl Program {
             light_shape.push(0);
             light_flip.push(0);
         }
+        let big_meshes = scene
+            .shapes
+            .iter()
+            .any(|s| matches!(s, Shape::Mesh(m) if m.triangle_count() >= super::surface::BIG_MESH));
         Program {
             shape_lanes,
             shape_mesh,
+            big_meshes,
             shape_mat,
             shape_emit,
             shape_class,

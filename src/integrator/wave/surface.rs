@@ -6,10 +6,34 @@
 use super::lookup::Groups;
 use super::pool::Pool;
 use super::vertex::{lanes, load_v3, Ctx};
-use crate::accel::BLOCK_WORDS;
+use crate::accel::{RawHit, BLOCK_WORDS};
 use crate::math::frame::FrameL;
 use crate::shape::Shape;
 use crate::simd::{Float, Int, Mask, V3};
+
+/// Triangles from which a mesh's arrays outgrow the caches (its indices alone 768 KB).
+pub(super) const BIG_MESH: usize = 1 << 16;
+
+/// Requests, for every hit on a mesh of [`BIG_MESH`] triangles or more among `hits`, the
+/// memory [`surfaces`] reads from the mesh's own arrays: the corner indices (`corners` false,
+/// right after tracing), or through them the corners' normals and UVs (`corners` true, once the
+/// indices have arrived: just before shading). Each is a cache miss on such a mesh, which
+/// shading took one lane at a time; requested for the whole pool at once, the loads overlap.
+/// (On small meshes the pass costs more than it saves.)
+pub(super) fn prefetch_meshes(shapes: &[Shape], hits: &[Option<RawHit>], corners: bool) {
+    for h in hits.iter().flatten() {
+        if let Some(Shape::Mesh(m)) = shapes.get(h.hit.shape as usize) {
+            if m.triangle_count() < BIG_MESH {
+                continue;
+            }
+            if corners {
+                m.prefetch_attributes(h.hit.prim);
+            } else {
+                m.prefetch_triangle(h.hit.prim);
+            }
+        }
+    }
+}
 
 /// The geometry the vertex needs.
 pub(super) struct Surface<F> {
@@ -145,4 +169,68 @@ fn corner<F: Float>(words: &[f32], slot: F::I, k: i32) -> V3<F> {
         F::gather(words, slot + F::I::splat(12 * k + 4)),
         F::gather(words, slot + F::I::splat(12 * k + 8)),
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::{Transform, Vec2, Vec3};
+    use crate::shape::{Hit, TriangleMesh};
+
+    #[test]
+    fn prefetching_reads_only_what_exists() {
+        // A big mesh (strips of triangles) with normals and UVs, a small one, a sphere, and
+        // hits on each, including primitives and shapes that do not exist: the passes request
+        // what is there and never index out of bounds.
+        let n = BIG_MESH + 2;
+        let positions: Vec<Vec3> = (0..n + 2)
+            .map(|i| Vec3::new(i as f32, (i % 2) as f32, 0.0))
+            .collect();
+        let indices: Vec<[u32; 3]> = (0..n as u32).map(|i| [i, i + 1, i + 2]).collect();
+        let normals = Some(vec![Vec3::Z; n + 2]);
+        let uvs = Some(vec![Vec2::ZERO; n + 2]);
+        let mesh = |idx: Vec<[u32; 3]>| {
+            let big = idx.len() >= BIG_MESH;
+            TriangleMesh::new(
+                positions.clone(),
+                normals.clone(),
+                if big { uvs.clone() } else { None },
+                idx,
+                &Transform::IDENTITY,
+                false,
+                false,
+            )
+            .unwrap()
+        };
+        let shapes = [
+            Shape::Mesh(mesh(indices.clone())),
+            Shape::Mesh(mesh(indices[..8].to_vec())),
+            Shape::Sphere(crate::shape::sphere::Sphere::simple(Vec3::ZERO, 1.0)),
+        ];
+        let hit = |shape, prim| {
+            Some(RawHit {
+                hit: Hit {
+                    t: 1.0,
+                    shape,
+                    prim,
+                    uv: Vec2::ZERO,
+                },
+                block: 0,
+                lane: 0,
+            })
+        };
+        let hits = [
+            hit(0, 0),
+            hit(0, n as u32 - 1),
+            hit(0, n as u32),
+            hit(0, u32::MAX),
+            hit(1, 3),
+            hit(1, 100),
+            hit(2, 0),
+            hit(7, 0),
+            None,
+        ];
+        prefetch_meshes(&shapes, &hits, false);
+        prefetch_meshes(&shapes, &hits, true);
+    }
 }
