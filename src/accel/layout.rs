@@ -33,7 +33,9 @@ pub fn layout(tree: Tree, ids: &[u32], shapes: &[Shape], first: &[u32]) -> Layou
         depth: 0,
     };
     let root = walk.slot_ref(walk.tree.root, 1);
-    let mut blocks = vec![Block::new([(EMPTY, [Vec3::ZERO; 3]); 4]); walk.blocks];
+    // On huge pages where the system gives them (see `pages.rs`): the traversal reads the blocks
+    // at scattered places.
+    let mut blocks = super::pages::filled(walk.blocks, Block::new([(EMPTY, [Vec3::ZERO; 3]); 4]));
     // Cut the array into each leaf's run, then fill the runs in parallel.
     let mut runs = Vec::with_capacity(walk.leaves.len());
     let mut rest = &mut blocks[..];

@@ -14,7 +14,8 @@
 //! structure-of-arrays form, 224 bytes) and [`block::Block`] (the leaves: four slots with
 //! copies of their triangles' corners and ids, 160 bytes), leaves in depth-first order. The
 //! refs and the build's own nodes are freed as soon as they are consumed, so the peak stays
-//! near the final size.
+//! near the final size. The blocks are allocated on huge pages where Linux gives them
+//! (`pages.rs`).
 //!
 //! **Traversal** ([`traverse`]). One ray against eight boxes at once, nearest child first,
 //! stack entries beyond the closest hit skipped; leaves test four triangles at once with the
@@ -38,6 +39,7 @@ pub mod build;
 pub mod bvh;
 pub mod isa;
 pub mod layout;
+mod pages;
 pub mod simd;
 pub mod traverse;
 pub mod wide;
