@@ -12,8 +12,9 @@
 //! advised memory would raise the peak by its size.
 //!
 //! Measured side by side (`OPHIS_HUGE_PAGES=0` against the default, one thread each, CPU time,
-//! 2026-12-03): cornell-mesh 1.033× (se 0.018, 8 pairs) and 1.011× (0.016, 16 pairs), the 4M
-//! mesh 1.032× (0.015, 8 pairs).
+//! 2026-12-03): cornell-mesh 1.033× (se 0.018, 8 pairs), 1.011× (0.016, 16 pairs) and 1.024×
+//! (0.014, 10 pairs), the 4M mesh 1.032× (0.015, 8 pairs); cornell-box, whose blocks fill no
+//! huge page, 1.020× (0.019): the method's noise.
 
 /// Size of a huge page (x86-64 and most Linux configurations).
 const HUGE: usize = 2 << 20;
@@ -40,9 +41,9 @@ fn interior(start: usize, len: usize) -> Option<(usize, usize)> {
 
 #[cfg(target_os = "linux")]
 fn advise(start: usize, len: usize) {
-    // SAFETY: the range lies inside an allocation this module owns and nothing has read or
-    // written yet; MADV_HUGEPAGE changes how pages are backed, never their contents. A failure
-    // (e.g. a kernel without transparent huge pages) leaves ordinary pages: ignored.
+    // SAFETY: the range lies inside an allocation the caller owns; MADV_HUGEPAGE changes only
+    // how pages not yet touched will be backed, never any contents. A failure (e.g. a kernel
+    // without transparent huge pages) leaves ordinary pages: ignored.
     unsafe {
         libc::madvise(start as *mut libc::c_void, len, libc::MADV_HUGEPAGE);
     }
