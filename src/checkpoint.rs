@@ -2,7 +2,8 @@
 //! continue it (`ophis render --checkpoint` writes them, `ophis render --resume` reads them).
 //!
 //! Format (all integers little-endian), version 1 (version 2 when the film has AOV channels,
-//! with the two fields marked ² added):
+//! with the two fields marked ² added; version 3 for an adaptive render, with the fields
+//! marked ² — the AOV count possibly 0 — and ³):
 //!
 //! | field        | type                     | meaning                                        |
 //! |--------------|--------------------------|------------------------------------------------|
@@ -18,6 +19,11 @@
 //! | aov names ²  | u32 count c, strings     | the `aov` integrator's channel names           |
 //! | pixels       | width·height·4 f64       | X, Y, Z sums and sample count per pixel        |
 //! | aov sums ²   | width·height·c f64       | AOV channel sums per pixel, row-major          |
+//! | spp, pilot ³ | u32, u32                 | the adaptive render's target and pilot         |
+//! | targets? ³   | u32                      | 1 once the per-pixel targets are set, else 0   |
+//! | Y² sums ³    | width·height f64         | the pilot's sums of squared luminance          |
+//! | progress ³   | width·height u32         | nominal sample each pixel's passes reached     |
+//! | targets ³    | width·height u32         | per-pixel target counts (only when set)        |
 //! | checksum     | u64                      | FNV-1a of every byte before it                 |
 //!
 //! The film is stored as f64 sums, exactly as held in memory, so a resumed render continues
@@ -26,6 +32,7 @@
 //! scene file itself is hashed, not the files it includes or the meshes it loads.
 
 use crate::film::Film;
+use crate::render::adaptive::{Adaptive, MAX_FACTOR};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
@@ -33,6 +40,8 @@ const MAGIC: &[u8; 8] = b"OPHISST\0";
 const VERSION: u32 = 1;
 /// The version of files whose film carries AOV channels.
 const VERSION_AOV: u32 = 2;
+/// The version of files of an adaptive render.
+const VERSION_ADAPTIVE: u32 = 3;
 /// Most AOV channels accepted when reading.
 const MAX_AOV_CHANNELS: u32 = 1024;
 /// Longest string field accepted when reading (paths, names, define values).
@@ -124,7 +133,9 @@ impl StateInfo {
             h: 0xcbf2_9ce4_8422_2325,
         };
         o.put(MAGIC)?;
-        let version = if film.aov_names.is_empty() {
+        let version = if film.adaptive.is_some() {
+            VERSION_ADAPTIVE
+        } else if film.aov_names.is_empty() {
             VERSION
         } else {
             VERSION_AOV
@@ -142,7 +153,7 @@ impl StateInfo {
             o.put_str(k)?;
             o.put_str(v)?;
         }
-        if version == VERSION_AOV {
+        if version != VERSION {
             o.put(&(film.aov_names.len() as u32).to_le_bytes())?;
             for name in &film.aov_names {
                 o.put_str(name)?;
@@ -157,6 +168,17 @@ impl StateInfo {
         }
         for v in &film.aov {
             o.put(&v.to_le_bytes())?;
+        }
+        if let Some(a) = &film.adaptive {
+            o.put(&a.spp.to_le_bytes())?;
+            o.put(&a.pilot.to_le_bytes())?;
+            o.put(&(!a.targets.is_empty() as u32).to_le_bytes())?;
+            for v in &a.sq {
+                o.put(&v.to_le_bytes())?;
+            }
+            for v in a.done.iter().chain(&a.targets) {
+                o.put(&v.to_le_bytes())?;
+            }
         }
         let sum = o.h;
         o.w.write_all(&sum.to_le_bytes())?;
@@ -252,8 +274,8 @@ impl RenderState {
         let version = r
             .u32()
             .ok_or_else(|| bad("end of file".into(), "a version"))?;
-        if version != VERSION && version != VERSION_AOV {
-            return Err(bad(format!("version {version}"), "version 1 or 2"));
+        if !(VERSION..=VERSION_ADAPTIVE).contains(&version) {
+            return Err(bad(format!("version {version}"), "version 1, 2 or 3"));
         }
         if hash_bytes(body) != stored {
             return Err(bad(
@@ -280,25 +302,102 @@ impl RenderState {
             defines.push((k, v));
         }
         let mut aov_names = Vec::new();
-        if version == VERSION_AOV {
+        if version != VERSION {
             let c = r.u32().ok_or_else(trunc)?;
-            if c == 0 || c > MAX_AOV_CHANNELS {
-                return Err(bad(format!("{c} AOV channels"), "1 to 1024"));
+            let least = (version == VERSION_AOV) as u32;
+            if c < least || c > MAX_AOV_CHANNELS {
+                return Err(bad(
+                    format!("{c} AOV channels"),
+                    &format!("{least} to {MAX_AOV_CHANNELS}"),
+                ));
             }
             for _ in 0..c {
                 aov_names.push(r.string().ok_or_else(trunc)?);
             }
         }
         let n = width as u64 * height as u64;
-        let rest = (r.b.len() - r.at) as u64;
         let per_pixel = 32 + 8 * aov_names.len() as u64;
-        if width == 0 || height == 0 || rest != n * per_pixel {
+        let film_end = n
+            .checked_mul(per_pixel)
+            .and_then(|b| b.checked_add(r.at as u64))
+            .filter(|&e| e <= r.b.len() as u64)
+            .ok_or_else(|| {
+                bad(
+                    format!(
+                        "{} bytes of pixels for {width} × {height}",
+                        r.b.len() - r.at
+                    ),
+                    &format!("{per_pixel} bytes per pixel"),
+                )
+            })?;
+        let adaptive = if version == VERSION_ADAPTIVE {
+            let mut a = Reader {
+                b: r.b,
+                at: film_end.min(r.b.len() as u64) as usize,
+            };
+            let head = || bad("end of file".into(), "the adaptive render's header");
+            let (spp, pilot, set) = (
+                a.u32().ok_or_else(head)?,
+                a.u32().ok_or_else(head)?,
+                a.u32().ok_or_else(head)?,
+            );
+            if crate::render::adaptive::pilot(spp) != Some(pilot) || set > 1 {
+                return Err(bad(
+                    format!("spp {spp}, pilot {pilot}, targets flag {set}"),
+                    "an adaptive render's pilot (a quarter of spp, at least 4) and a flag 0 or 1",
+                ));
+            }
+            let rest = (a.b.len() - a.at) as u64;
+            let want = n * (12 + 4 * set as u64);
+            if rest != want {
+                return Err(bad(
+                    format!("{rest} bytes of adaptive state for {width} × {height}"),
+                    &format!("{want} bytes"),
+                ));
+            }
+            let (sq, ints) = a.b[a.at..].split_at((n * 8) as usize);
+            let mut ints = ints
+                .chunks_exact(4)
+                .map(|v| u32::from_le_bytes(v.try_into().expect("4 bytes")));
+            let done: Vec<u32> = ints.by_ref().take(n as usize).collect();
+            let targets: Vec<u32> = ints.collect();
+            let reach = if targets.is_empty() { pilot } else { spp };
+            if done.iter().any(|&d| d > reach) {
+                return Err(bad(
+                    "a pixel's progress beyond its plan".into(),
+                    "progress within the pilot until the targets are set, within spp after",
+                ));
+            }
+            if targets
+                .iter()
+                .any(|&t| t < pilot || t > spp.saturating_mul(MAX_FACTOR))
+            {
+                return Err(bad(
+                    "a target count out of range".into(),
+                    "targets between the pilot and 16 × spp",
+                ));
+            }
+            Some(Adaptive {
+                spp,
+                pilot,
+                sq: sq
+                    .chunks_exact(8)
+                    .map(|v| f64::from_le_bytes(v.try_into().expect("8 bytes")))
+                    .collect(),
+                done,
+                targets,
+            })
+        } else {
+            None
+        };
+        let rest = (r.b.len() - r.at) as u64;
+        if width == 0 || height == 0 || (adaptive.is_none() && rest != n * per_pixel) {
             return Err(bad(
                 format!("{rest} bytes of pixels for {width} × {height}"),
                 &format!("{} bytes", n * per_pixel),
             ));
         }
-        let (px_bytes, aov_bytes) = r.b[r.at..].split_at((n * 32) as usize);
+        let (px_bytes, aov_bytes) = r.b[r.at..film_end as usize].split_at((n * 32) as usize);
         let aov = aov_bytes
             .chunks_exact(8)
             .map(|v| f64::from_le_bytes(v.try_into().expect("8 bytes")))
@@ -326,6 +425,7 @@ impl RenderState {
                 pixels,
                 aov_names,
                 aov,
+                adaptive,
             },
         })
     }
@@ -400,6 +500,61 @@ mod tests {
         assert_eq!(sample().to_bytes()[8], 1);
         for n in [bytes.len() - 9, bytes.len() - 100] {
             assert!(RenderState::from_bytes(&bytes[..n], Path::new("s")).is_err());
+        }
+    }
+
+    fn adaptive_sample(targets: bool) -> RenderState {
+        let mut s = sample();
+        let mut a = Adaptive::new(16, 6).unwrap();
+        a.sq = (0..6).map(|i| i as f64 * 0.7).collect();
+        if targets {
+            a.targets = vec![4, 4, 20, 30, 16, 22];
+            a.done = vec![8, 8, 8, 8, 4, 4];
+        } else {
+            a.done = vec![4, 4, 4, 4, 2, 2];
+        }
+        s.film.adaptive = Some(a);
+        s
+    }
+
+    #[test]
+    fn an_adaptive_render_round_trips_in_version_3() {
+        for targets in [false, true] {
+            for aov in [false, true] {
+                let mut s = adaptive_sample(targets);
+                if aov {
+                    s.film.aov_names = vec!["dd.T".into()];
+                    s.film.aov = (0..6).map(|i| i as f64).collect();
+                }
+                let bytes = s.to_bytes();
+                assert_eq!(u32::from_le_bytes(bytes[8..12].try_into().unwrap()), 3);
+                let back = RenderState::from_bytes(&bytes, Path::new("s")).unwrap();
+                assert_eq!(back, s);
+                for n in 0..bytes.len() {
+                    assert!(RenderState::from_bytes(&bytes[..n], Path::new("s")).is_err());
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn an_inconsistent_adaptive_state_is_an_error() {
+        // Files with a valid checksum whose adaptive part does not make sense.
+        type Spoil = fn(&mut Adaptive);
+        let cases: [(&str, Spoil); 4] = [
+            ("pilot", |a| a.pilot = 5),
+            ("target below the pilot", |a| a.targets[0] = 3),
+            ("target above 16 x spp", |a| a.targets[1] = 16 * 16 + 1),
+            ("progress beyond the pilot without targets", |a| {
+                a.targets.clear();
+                a.done[0] = 5;
+            }),
+        ];
+        for (what, spoil) in cases {
+            let mut s = adaptive_sample(true);
+            spoil(s.film.adaptive.as_mut().unwrap());
+            let e = RenderState::from_bytes(&s.to_bytes(), Path::new("s.state"));
+            assert!(e.is_err(), "{what} accepted");
         }
     }
 

@@ -185,6 +185,9 @@ pub struct Film {
     /// Per-pixel sums of the AOV channels, `aov_names.len()` values per pixel, row-major; the
     /// sample count is the pixel's weight in `pixels`.
     pub aov: Vec<f64>,
+    /// An adaptive render's allocation and progress ([`crate::render::adaptive`]); `None` for
+    /// a uniform render.
+    pub adaptive: Option<crate::render::adaptive::Adaptive>,
 }
 
 impl Film {
@@ -196,6 +199,7 @@ impl Film {
             pixels: vec![[0.0; 4]; width as usize * height as usize],
             aov_names: Vec::new(),
             aov: Vec::new(),
+            adaptive: None,
         }
     }
 
@@ -241,8 +245,10 @@ impl Film {
         p[3] += 1.0;
     }
 
-    /// Adds another film's sums (same size) — used to merge independent renders.
+    /// Adds another film's sums (same size) — used to merge independent renders. The result
+    /// is a finished image, not a render to continue: an adaptive render's state is dropped.
     pub fn merge(&mut self, other: &Film) {
+        self.adaptive = None;
         for (a, b) in self.pixels.iter_mut().zip(&other.pixels) {
             for c in 0..4 {
                 a[c] += b[c];

@@ -3,7 +3,11 @@
 //!
 //! Determinism: every pixel sample draws from a sampler state fixed by (seed, pixel, sample
 //! index), each pixel belongs to exactly one tile, and the pass schedule depends only on the
-//! sample count, so the film's sums are bit-identical whatever the number of threads.
+//! sample count, so the film's sums are bit-identical whatever the number of threads. An
+//! adaptive render ([`adaptive`]) keeps this: its per-pixel counts are fixed once, from the
+//! pilot's sums, and each pass takes a fixed range of every pixel's samples.
+
+pub mod adaptive;
 
 use crate::film::{spectrum_to_xyz, Film};
 use crate::integrator::{aov, radiance, wave, PathStrategy};
@@ -11,6 +15,7 @@ use crate::math::Vec2;
 use crate::sampler::Sampler;
 use crate::scene::Scene;
 use crate::spectrum::SampledWavelengths;
+use adaptive::Adaptive;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::Mutex;
@@ -156,9 +161,48 @@ fn tiles(w: u32, h: u32, order: TileOrder) -> Vec<(u32, u32)> {
     t
 }
 
-/// Samples per pixel a tile already holds (all pixels of a tile always hold the same count).
+/// Samples per pixel a tile has finished (all pixels of a tile always finish the same passes):
+/// its pixels' count, or in an adaptive render the nominal sample index its passes reached.
 pub fn tile_spp(film: &Film, x0: u32, y0: u32) -> u32 {
-    film.pixels[(y0 * film.width + x0) as usize][3] as u32
+    let i = (y0 * film.width + x0) as usize;
+    match &film.adaptive {
+        Some(a) => a.done[i],
+        None => film.pixels[i][3] as u32,
+    }
+}
+
+/// [`pass_schedule`] with the pass that holds the end of an adaptive render's pilot split
+/// there, so that every pass lies wholly in the pilot or wholly after it.
+fn schedule(start: u32, spp: u32, pilot: Option<u32>) -> Vec<(u32, u32)> {
+    let mut passes = pass_schedule(start, spp);
+    if let Some(p) = pilot {
+        if let Some(k) = passes.iter().position(|&(a, b)| a < p && p < b) {
+            let (a, b) = passes[k];
+            passes[k] = (a, p);
+            passes.insert(k + 1, (p, b));
+        }
+    }
+    passes
+}
+
+/// Gives an empty film the adaptive state its scene asks for. A film that already holds
+/// samples keeps what it has: a resumed render continues the way it started.
+fn prepare_adaptive(scene: &Scene, film: &mut Film, spp: u32) {
+    if scene.sampler.adaptive && film.adaptive.is_none() && film.total_weight() == 0.0 {
+        film.adaptive = Adaptive::new(spp, film.pixels.len());
+    }
+}
+
+/// What the workers of one pass need of an adaptive render: the counts' arithmetic, without
+/// the film's per-pixel progress.
+fn allocation(film: &Film) -> Option<Adaptive> {
+    film.adaptive.as_ref().map(|a| Adaptive {
+        spp: a.spp,
+        pilot: a.pilot,
+        sq: Vec::new(),
+        done: Vec::new(),
+        targets: a.targets.clone(),
+    })
 }
 
 /// Like [`render`], with checkpoints and a tile order. Each tile resumes from the samples the
@@ -177,21 +221,28 @@ pub fn render_with(
         "film and scene resolutions differ"
     );
     prepare_aovs(scene, film);
+    prepare_adaptive(scene, film, opts.spp);
+    // An adaptive film's counts were planned for its own target.
+    let spp = film.adaptive.as_ref().map_or(opts.spp, |a| a.spp);
+    let pilot = film.adaptive.as_ref().map(|a| a.pilot);
     let t0 = Instant::now();
     let cpu0 = cpu_seconds(CpuClock::Process);
     let program = (opts.engine == Engine::Auto && wave::supports(scene))
         .then(|| wave::WaveProgram::new(scene));
     let (w, h) = (scene.width, scene.height);
     let tiles = tiles(w, h, ctl.tile_order);
-    let pixels_of = |(x0, y0): (u32, u32)| {
-        let (x1, y1) = tile_extent(scene, x0, y0);
-        ((x1 - x0) * (y1 - y0)) as u64
-    };
-    let total: u64 = tiles
+    // The samples still to take (for progress): each pixel's target (spp until an adaptive
+    // render's targets are known) less what it holds.
+    let total: u64 = film
+        .pixels
         .iter()
-        .map(|&t| {
-            let from = tile_spp(film, t.0, t.1).max(start_spp);
-            pixels_of(t) * opts.spp.saturating_sub(from) as u64
+        .enumerate()
+        .map(|(i, p)| {
+            let target = match &film.adaptive {
+                Some(a) if !a.targets.is_empty() => a.targets[i],
+                _ => spp,
+            };
+            (target as u64).saturating_sub((p[3] as u64).max(start_spp as u64))
         })
         .sum();
     let done = AtomicU64::new(0);
@@ -199,15 +250,28 @@ pub fn render_with(
     let mut stopped_early = false;
     let shared = Mutex::new((film, Instant::now()));
 
-    for (s0, s1) in pass_schedule(start_spp, opts.spp) {
-        let todo: Vec<((u32, u32), u32)> = {
-            let g = shared.lock().unwrap_or_else(|e| e.into_inner());
-            tiles
+    for (s0, s1) in schedule(start_spp, spp, pilot) {
+        let (todo, plan): (Vec<((u32, u32), u32)>, _) = {
+            let mut g = shared.lock().unwrap_or_else(|e| e.into_inner());
+            let film = &mut *g.0;
+            if let Some(a) = &film.adaptive {
+                if s0 >= a.pilot && a.targets.is_empty() {
+                    // Every pixel holds exactly the pilot now (no tile passes it before the
+                    // targets exist).
+                    let targets = adaptive::targets(film, a);
+                    if let Some(a) = &mut film.adaptive {
+                        a.targets = targets;
+                    }
+                }
+            }
+            let todo = tiles
                 .iter()
-                .map(|&t| (t, tile_spp(g.0, t.0, t.1).max(s0)))
+                .map(|&t| (t, tile_spp(film, t.0, t.1).max(s0)))
                 .filter(|&(_, from)| from < s1)
-                .collect()
+                .collect();
+            (todo, allocation(film))
         };
+        let in_pilot = pilot.is_some_and(|p| s1 <= p);
         let missed = AtomicBool::new(false);
         todo.par_iter().for_each(|&((x0, y0), from)| {
             if ctl.cancel.load(Ordering::Relaxed) || stop.load(Ordering::Relaxed) {
@@ -221,18 +285,26 @@ pub fn render_with(
                     return;
                 }
             }
+            let (x1, y1) = tile_extent(scene, x0, y0);
+            let ranges: Vec<(u32, u32)> = (y0..y1)
+                .flat_map(|y| (x0..x1).map(move |x| (y * w + x) as usize))
+                .map(|i| match &plan {
+                    Some(a) => (a.samples_at(i, from), a.samples_at(i, s1)),
+                    None => (from, s1),
+                })
+                .collect();
             let (acc, aov) = if let Some(prog) = &program {
-                let ext = tile_extent(scene, x0, y0);
-                let acc = wave::render_tile(scene, prog, (x0, y0), ext, (from, s1), opts.strategy);
+                let acc =
+                    wave::render_tile(scene, prog, (x0, y0), (x1, y1), &ranges, opts.strategy);
                 (acc, Vec::new())
             } else {
-                render_tile(scene, x0, y0, from, s1, opts.strategy)
+                render_tile(scene, (x0, y0), (x1, y1), &ranges, opts.strategy)
             };
-            let n = acc.len() as u64 * (s1 - from) as u64;
+            let n: u64 = ranges.iter().map(|&(a, b)| (b - a) as u64).sum();
             let d = done.fetch_add(n, Ordering::Relaxed) + n;
             ctl.progress.update(d, total);
             let mut g = shared.lock().unwrap_or_else(|e| e.into_inner());
-            add_tile(g.0, x0, y0, &acc);
+            add_tile(g.0, x0, y0, &acc, s1, in_pilot);
             add_aov_tile(g.0, x0, y0, &aov);
             if let Some((every, write)) = ctl.checkpoint {
                 if g.1.elapsed() >= every {
@@ -302,27 +374,27 @@ fn tile_extent(scene: &Scene, x0: u32, y0: u32) -> (u32, u32) {
     ((x0 + TILE).min(scene.width), (y0 + TILE).min(scene.height))
 }
 
-/// Renders samples [s0, s1) of every pixel in a tile; returns per-pixel sums (X, Y, Z, count)
-/// and, with the `aov` integrator, the AOV channel sums.
+/// Renders the samples `ranges` (one range of sample indices per pixel, row-major) of the
+/// tile from corner (x0, y0) to far corner (x1, y1) (exclusive); returns per-pixel sums
+/// [`TileSums`] and, with the `aov` integrator, the AOV channel sums.
 fn render_tile(
     scene: &Scene,
-    x0: u32,
-    y0: u32,
-    s0: u32,
-    s1: u32,
+    (x0, y0): (u32, u32),
+    (x1, y1): (u32, u32),
+    ranges: &[(u32, u32)],
     strategy: PathStrategy,
-) -> (Vec<[f64; 4]>, Vec<f64>) {
+) -> (Vec<TileSums>, Vec<f64>) {
     let aov = scene.integrator.aov.as_ref();
     let n_aov = aov.map_or(0, |a| a.channels());
     let with_image = aov.is_none_or(|a| a.has_image);
-    let (x1, y1) = tile_extent(scene, x0, y0);
     let mut aov_sums = vec![0.0f64; n_aov * ((x1 - x0) * (y1 - y0)) as usize];
     let mut sampler = Sampler::new(scene.sampler.kind, scene.sampler.seed);
     let inv = Vec2::new(1.0 / scene.width as f32, 1.0 / scene.height as f32);
     let mut out = Vec::with_capacity(((x1 - x0) * (y1 - y0)) as usize);
     for y in y0..y1 {
         for x in x0..x1 {
-            let mut acc = [0.0f64; 4];
+            let mut acc = [0.0f64; 5];
+            let (s0, s1) = ranges[out.len()];
             for s in s0..s1 {
                 sampler.start_pixel_sample(x, y, s);
                 // The camera's sets of dimensions: the filter offset, then the lens point
@@ -355,6 +427,7 @@ fn render_tile(
                 acc[1] += xyz[1] as f64;
                 acc[2] += xyz[2] as f64;
                 acc[3] += 1.0;
+                acc[4] += xyz[1] as f64 * xyz[1] as f64;
             }
             out.push(acc);
         }
@@ -396,17 +469,29 @@ fn add_aov_tile(film: &mut Film, x0: u32, y0: u32, sums: &[f64]) {
     }
 }
 
-fn add_tile(film: &mut Film, x0: u32, y0: u32, acc: &[[f64; 4]]) {
+/// A pixel's sums over a tile's pass: X, Y, Z, the sample count, and Y² (which an adaptive
+/// render's pilot keeps).
+pub type TileSums = [f64; 5];
+
+/// Adds a tile's sums for the pass ending at (nominal) sample `s1`; `in_pilot` says the pass
+/// is part of an adaptive render's pilot.
+fn add_tile(film: &mut Film, x0: u32, y0: u32, acc: &[TileSums], s1: u32, in_pilot: bool) {
     let x1 = (x0 + TILE).min(film.width);
     let y1 = (y0 + TILE).min(film.height);
-    let mut i = 0;
+    let mut sums = acc.iter();
     for y in y0..y1 {
         for x in x0..x1 {
-            let p = &mut film.pixels[(y * film.width + x) as usize];
-            for c in 0..4 {
-                p[c] += acc[i][c];
+            let i = (y * film.width + x) as usize;
+            let a = sums.next().expect("one sum per pixel of the tile");
+            for (p, v) in film.pixels[i].iter_mut().zip(a) {
+                *p += v;
             }
-            i += 1;
+            if let Some(ad) = &mut film.adaptive {
+                ad.done[i] = s1;
+                if in_pilot {
+                    ad.sq[i] += a[4];
+                }
+            }
         }
     }
 }

@@ -1,6 +1,8 @@
 //! Reproducibility and resuming, through the library: the same scene, seed and spp give
 //! bit-identical sums whatever the thread count and tile order, and a render interrupted
-//! mid-pass, saved to a state file and resumed, equals an uninterrupted one bit for bit.
+//! mid-pass, saved to a state file and resumed, equals an uninterrupted one bit for bit; both
+//! for uniform and adaptive renders (`render/adaptive.rs`), whose sample counts differ from
+//! pixel to pixel.
 
 use ophis::checkpoint::{hash_bytes, RenderState, StateInfo};
 use ophis::film::Film;
@@ -14,11 +16,22 @@ use std::time::Duration;
 
 /// The reference scene at 72 × 40: 3 × 2 tiles of different sizes (32 or 8 wide, 32 or 8 high).
 fn scene_with_seed(spp: u32, seed: u64) -> Scene {
+    scene_of(spp, seed, false)
+}
+
+/// The reference scene at 72 × 40, its sampler adaptive or not.
+fn scene_of(spp: u32, seed: u64, adaptive: bool) -> Scene {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/reference.xml");
-    let xml = std::fs::read_to_string(&path)
+    let mut xml = std::fs::read_to_string(&path)
         .unwrap()
         .replace(r#"name="width" value="64""#, r#"name="width" value="72""#)
         .replace(r#"name="height" value="48""#, r#"name="height" value="40""#);
+    if adaptive {
+        xml = xml.replace(
+            "</sampler>",
+            r#"<boolean name="adaptive" value="true"/></sampler>"#,
+        );
+    }
     let opts = LoadOptions {
         defines: vec![],
         spp: Some(spp),
@@ -85,6 +98,119 @@ fn sums_are_bit_identical_across_threads_and_tile_orders() {
     let mut f = Film::new(scene.width, scene.height);
     run(&other, &mut f, spp, TileOrder::RowMajor, 2);
     assert!(bits(&f) != bits(&base));
+}
+
+#[test]
+fn adaptive_sums_are_bit_identical_across_threads_and_tile_orders() {
+    let spp = 12; // a pilot of 4
+    let scene = scene_of(spp, 5, true);
+    let mut base = Film::new(scene.width, scene.height);
+    run(&scene, &mut base, spp, TileOrder::RowMajor, 1);
+    let counts: std::collections::BTreeSet<u64> = base.pixels.iter().map(|p| p[3] as u64).collect();
+    assert!(counts.len() > 5, "the counts should vary: {counts:?}");
+    assert!(counts.iter().all(|&c| c >= 4), "{counts:?}");
+    let budget = (scene.width * scene.height * spp) as f64;
+    let n = (scene.width * scene.height) as f64;
+    assert!((base.total_weight() - budget).abs() <= n / 2.0);
+    for (order, threads) in [(TileOrder::Reversed, 2), (TileOrder::Shuffled(3), 3)] {
+        let mut f = Film::new(scene.width, scene.height);
+        run(&scene, &mut f, spp, order, threads);
+        assert!(bits(&f) == bits(&base), "{order:?} with {threads} threads");
+        assert_eq!(f.adaptive, base.adaptive);
+    }
+}
+
+/// An adaptive render's image is an unbiased estimate: its mean over the image agrees with
+/// a uniform render's within the spread of independent seeds (a two-sample t statistic).
+#[test]
+fn adaptive_render_agrees_with_a_uniform_one() {
+    let spp = 16;
+    let means = |adaptive: bool| -> Vec<f64> {
+        (0..6)
+            .map(|seed| {
+                let scene = scene_of(spp, 100 + seed + 10 * adaptive as u64, adaptive);
+                let mut f = Film::new(scene.width, scene.height);
+                run(&scene, &mut f, spp, TileOrder::RowMajor, 2);
+                assert_eq!(f.adaptive.is_some(), adaptive);
+                let img = f.to_linear_srgb();
+                img.iter().map(|p| (p[0] + p[1] + p[2]) as f64).sum::<f64>() / img.len() as f64
+            })
+            .collect()
+    };
+    let (a, u) = (means(true), means(false));
+    let stats = |v: &[f64]| {
+        let m = v.iter().sum::<f64>() / v.len() as f64;
+        let var = v.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (v.len() - 1) as f64;
+        (m, var / v.len() as f64)
+    };
+    let ((ma, va), (mu, vu)) = (stats(&a), stats(&u));
+    let t = (ma - mu) / (va + vu).sqrt();
+    // |t| < 4: a false alarm about once in 300 runs of 10 degrees of freedom, and the seeds
+    // are fixed.
+    assert!(t.abs() < 4.0, "adaptive {ma} vs uniform {mu}: t = {t}");
+    assert!(va > 0.0 && vu > 0.0);
+}
+
+/// Interrupts an adaptive render of `spp` after `stop_after` tiles, saves it, resumes it and
+/// compares with an uninterrupted one.
+fn adaptive_resume_case(spp: u32, stop_after: usize) {
+    let scene = scene_of(spp, 5, true);
+    let mut whole = Film::new(scene.width, scene.height);
+    run(&scene, &mut whole, spp, TileOrder::RowMajor, 2);
+    let dir = temp(&format!("adaptive-{stop_after}"));
+    let state_path = dir.join("r.ophis-state");
+    let info = StateInfo {
+        scene_path: "reference.xml".into(),
+        scene_hash: hash_bytes(b"reference"),
+        seed: 5,
+        spp,
+        strategy: "mis".into(),
+        defines: vec![],
+    };
+    let cancel = AtomicBool::new(false);
+    let tiles_done = AtomicUsize::new(0);
+    let save = |f: &Film| {
+        info.write(f, &state_path).unwrap();
+        if tiles_done.fetch_add(1, Ordering::SeqCst) + 1 == stop_after {
+            cancel.store(true, Ordering::SeqCst);
+        }
+    };
+    let ctl = RenderControl {
+        cancel: &cancel,
+        progress: &NoProgress,
+        checkpoint: Some((Duration::ZERO, &save)),
+        tile_order: TileOrder::Shuffled(9),
+    };
+    let mut part = Film::new(scene.width, scene.height);
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap();
+    let stats = pool.install(|| render_with(&scene, &mut part, 0, &opts(spp), &ctl));
+    assert!(stats.stopped_early);
+    let state = RenderState::read(&state_path).unwrap();
+    assert_eq!(
+        state.film, part,
+        "the last checkpoint holds the interrupted film"
+    );
+    let mut resumed = state.film;
+    run(&scene, &mut resumed, spp, TileOrder::Reversed, 2);
+    assert!(bits(&resumed) == bits(&whole), "resumed render differs");
+    assert_eq!(resumed.adaptive, whole.adaptive);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn adaptive_render_interrupted_in_its_pilot_resumes_bit_identical() {
+    // spp 20: pilot 5, passes 0–1, 1–2, 2–4, 4–5 | 5–8, 8–16, 16–20 of 6 tiles each; stop in
+    // the third pass.
+    adaptive_resume_case(20, 15);
+}
+
+#[test]
+fn adaptive_render_interrupted_after_its_pilot_resumes_bit_identical() {
+    // Stop in the fifth pass (5–8), after the targets are set.
+    adaptive_resume_case(20, 27);
 }
 
 fn temp(name: &str) -> PathBuf {

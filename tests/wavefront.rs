@@ -181,3 +181,27 @@ fn mixed_lane_and_scalar_paths_are_identical_for_every_strategy_and_setting() {
     }
     assert!(differ.is_empty(), "{differ:#?}");
 }
+
+/// An adaptive render, whose pixels take different numbers of samples (some a few, some many
+/// times the mean), gives the same sums with both engines.
+#[test]
+fn adaptive_renders_are_identical_with_both_engines() {
+    let xml = MIXED.replace(
+        "<sampler type=\"independent\"/>",
+        "<sampler type=\"independent\"><boolean name=\"adaptive\" value=\"true\"/></sampler>",
+    );
+    let mut scene = common::scene(&xml);
+    let a = render_with(&scene, Engine::Scalar, 12);
+    let counts: std::collections::BTreeSet<u64> = a.pixels.iter().map(|p| p[3] as u64).collect();
+    assert!(counts.len() > 5, "the counts should vary: {counts:?}");
+    let mut checked = 0;
+    for isa in Isa::ALL {
+        if !scene.bvh.set_isa(isa) {
+            continue;
+        }
+        let b = render_with(&scene, Engine::Auto, 12);
+        assert!(a.pixels == b.pixels, "{isa:?}");
+        checked += 1;
+    }
+    assert!(checked >= 1);
+}

@@ -6,7 +6,10 @@
 //! pixel of every 32×32 tile in row-major order, run-length encoded as `count*run` items
 //! separated by commas (`64*920` for a finished 1280×720 render; an interrupted render has
 //! tiles one pass ahead of others). The weighted mean of means, each weighted by its pixel's
-//! sample count, is exactly the mean over all samples (up to float rounding).
+//! sample count, is exactly the mean over all samples (up to float rounding). An adaptive
+//! render's pixels hold different counts within a tile; its tiles record their pixels' mean
+//! count, rounded, so its pixels are weighted by their tile's mean: still an unbiased mean of
+//! independent estimates, only not exactly the one all samples together would give.
 //!
 //! That holds only for independent renders of one scene, which a render farm can get wrong:
 //! two tasks given the same seed take the very same samples (merging them would claim twice the
@@ -61,10 +64,24 @@ pub(crate) fn film_tile_spp(film: &Film) -> Vec<u64> {
     let mut v = Vec::new();
     for ty in 0..film.height.div_ceil(TILE) {
         for tx in 0..film.width.div_ceil(TILE) {
-            v.push(tile_spp(film, tx * TILE, ty * TILE) as u64);
+            v.push(if film.adaptive.is_some() {
+                tile_mean_count(film, tx * TILE, ty * TILE)
+            } else {
+                tile_spp(film, tx * TILE, ty * TILE) as u64
+            });
         }
     }
     v
+}
+
+/// The mean sample count of the pixels of the tile at (x0, y0), rounded.
+fn tile_mean_count(film: &Film, x0: u32, y0: u32) -> u64 {
+    let (x1, y1) = ((x0 + TILE).min(film.width), (y0 + TILE).min(film.height));
+    let sum: f64 = (y0..y1)
+        .flat_map(|y| (x0..x1).map(move |x| (y * film.width + x) as usize))
+        .map(|i| film.pixels[i][3])
+        .sum();
+    (sum / ((x1 - x0) * (y1 - y0)) as f64).round() as u64
 }
 
 /// Decodes `ophis.tile_spp` into one count per pixel of a `width × height` image.

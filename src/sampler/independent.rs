@@ -8,6 +8,7 @@
 //! |---|---|---|---|---|
 //! | `sample_count` (0.6: `sampleCount`) | integer | 4 | — | samples per pixel (the command line's `--spp` overrides it); between 1 and 16777216 |
 //! | `seed` | integer | 0 | — | seed of the random sequence (the command line's `--seed` overrides it); non-negative |
+//! | `adaptive` | boolean | false | — | an ophis extension: the same samples in all, a quarter of them spread evenly and the rest where the neighbouring pixels are noisiest (see `render/adaptive.rs`) |
 //!
 //! Known limits: none. Mitsuba's low-discrepancy samplers load as `sobol` (its own file).
 
@@ -27,6 +28,10 @@ pub(super) const COUNT_AND_SEED: &[Param] = &[
     Param::int("seed", 0)
         .check(Check::NonNegative)
         .doc("seed of the random sequence (the command line's `--seed` overrides it)"),
+    Param::bool("adaptive", false).doc(
+        "an ophis extension: the same samples in all, a quarter of them spread evenly and the \
+         rest where the neighbouring pixels are noisiest (see `render/adaptive.rs`)",
+    ),
 ];
 
 declare!(PLUGIN: SamplerSettings = Sampler "independent" []
@@ -43,6 +48,7 @@ pub(super) fn settings(a: &Args, kind: SamplerKind) -> Result<SamplerSettings, S
         kind,
         spp: a.u32("sample_count")?,
         seed: a.int("seed")? as u64,
+        adaptive: a.bool("adaptive")?,
     })
 }
 
@@ -53,6 +59,7 @@ impl Default for SamplerSettings {
             kind: SamplerKind::Independent,
             spp: DEFAULT_SPP as u32,
             seed: 0,
+            adaptive: false,
         }
     }
 }

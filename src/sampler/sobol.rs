@@ -12,6 +12,7 @@
 //! |---|---|---|---|---|
 //! | `sample_count` (0.6: `sampleCount`) | integer | 4 | — | samples per pixel (the command line's `--spp` overrides it); between 1 and 16777216 |
 //! | `seed` | integer | 0 | — | seed of the random sequence (the command line's `--seed` overrides it); non-negative |
+//! | `adaptive` | boolean | false | — | an ophis extension: the same samples in all, a quarter of them spread evenly and the rest where the neighbouring pixels are noisiest (see `render/adaptive.rs`) |
 //!
 //! A path's dimensions come in sets of four (see `sampler/mod.rs`): the camera's and the first
 //! vertex's are dimensions of one sequence chosen for well-stratified 2D pairs, later sets are

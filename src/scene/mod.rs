@@ -60,6 +60,9 @@ pub struct SamplerSettings {
     pub kind: SamplerKind,
     pub spp: u32,
     pub seed: u64,
+    /// Spend the samples where the neighbouring pixels are noisy ([`crate::render::adaptive`];
+    /// an ophis extension).
+    pub adaptive: bool,
 }
 
 /// A scene ready to render.

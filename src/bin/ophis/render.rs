@@ -47,6 +47,12 @@ pub struct RenderArgs {
     /// Stop after this many seconds; the image is normalised by the samples each pixel got.
     #[arg(long, value_name = "SECONDS")]
     time: Option<f64>,
+    /// Adaptive sampling: `on` spends the same samples in all, a quarter spread evenly and the
+    /// rest where the neighbouring pixels are noisiest; `off` spreads them all evenly.
+    /// Overrides the sampler's `adaptive` (an ophis extension; off by default, on in the
+    /// built-in scene). A resumed render continues the way it started.
+    #[arg(long, value_parser = ["on", "off"])]
+    adaptive: Option<String>,
     /// Estimator: `mis` (default), `light` (light sampling only) or `bsdf` (BSDF sampling only).
     #[arg(long, value_parser = ["mis", "light", "bsdf"])]
     strategy: Option<String>,
@@ -326,6 +332,9 @@ pub fn run(args: RenderArgs) -> Result<()> {
         eprintln!("{w}");
     }
     let mut scene = loaded?;
+    if let Some(a) = &args.adaptive {
+        scene.sampler.adaptive = a == "on";
+    }
     let isa = match args.isa.as_str() {
         "avx512" => Some(ophis::accel::Isa::Avx512),
         "avx2" => Some(ophis::accel::Isa::Avx2),
@@ -356,6 +365,15 @@ pub fn run(args: RenderArgs) -> Result<()> {
                      records [{}]",
                     f.aov_names.join(", "),
                     names.join(", ")
+                );
+            }
+            if let Some(a) = f.adaptive.as_ref().filter(|a| a.spp != scene.sampler.spp) {
+                bail!(
+                    "cannot resume: the state is an adaptive render whose samples were planned \
+                     for {} spp; it cannot continue to {} (render it again, or resume it without \
+                     --spp)",
+                    a.spp,
+                    scene.sampler.spp
                 );
             }
             f
@@ -467,6 +485,9 @@ pub fn run(args: RenderArgs) -> Result<()> {
         sps / 1e6,
         names.join(", ")
     );
+    if let Some(note) = adaptive_note(&film) {
+        eprintln!("{note}");
+    }
     let resume_hint = format!(
         "continue with: ophis render --resume {}",
         state_path.display()
@@ -486,6 +507,18 @@ pub fn run(args: RenderArgs) -> Result<()> {
         );
     }
     Ok(())
+}
+
+/// For an adaptive render, a line on how its samples were spread (the summary line above it
+/// keeps the format scripts read).
+fn adaptive_note(film: &Film) -> Option<String> {
+    film.adaptive.as_ref()?;
+    let counts = film.pixels.iter().map(|p| p[3] as u64);
+    let (lo, hi) = (counts.clone().min()?, counts.max()?);
+    let mean = film.total_weight() / film.pixels.len() as f64;
+    Some(format!(
+        "adaptive sampling: {lo} to {hi} samples per pixel, {mean:.1} on average"
+    ))
 }
 
 /// An EXR channel: its name and row-major values.

@@ -13,15 +13,53 @@ use crate::simd::{Float, Int, Mask};
 use crate::spectrum::cie::d65_lanes;
 use crate::spectrum::SampledWavelengths;
 
-/// The jobs of a tile's pass: pixels of the tile (row-major) times sample indices.
-pub(super) struct Jobs {
-    pub x0: u32,
-    pub y0: u32,
-    pub width: u32,
-    pub s0: u32,
-    pub spp: u32,
+/// The jobs of a tile's pass: each pixel of the tile (row-major) with its range of sample
+/// indices, in that order.
+pub(super) struct Jobs<'a> {
+    x0: u32,
+    y0: u32,
+    width: u32,
+    /// Per pixel, the sample indices of this pass.
+    ranges: &'a [(u32, u32)],
+    /// Per pixel, the index of its first job, and the job count at the end.
+    pub first_job: Vec<u32>,
+    /// The pixel of job `next` (jobs are started in order).
+    pixel: usize,
     pub count: u32,
     pub next: u32,
+}
+
+impl<'a> Jobs<'a> {
+    /// The jobs of the tile whose corner is (x0, y0) and rows `width` pixels wide.
+    pub fn new(x0: u32, y0: u32, width: u32, ranges: &'a [(u32, u32)]) -> Jobs<'a> {
+        let mut first_job = Vec::with_capacity(ranges.len() + 1);
+        let mut count = 0u32;
+        for &(a, b) in ranges {
+            first_job.push(count);
+            count += b - a;
+        }
+        first_job.push(count);
+        Jobs {
+            x0,
+            y0,
+            width,
+            ranges,
+            first_job,
+            pixel: 0,
+            count,
+            next: 0,
+        }
+    }
+
+    /// The pixel (within the tile) and sample index of job `job`, the next to start.
+    #[inline]
+    fn locate(&mut self, job: u32) -> (u32, u32) {
+        while job >= self.first_job[self.pixel + 1] {
+            self.pixel += 1;
+        }
+        let p = self.pixel;
+        (p as u32, self.ranges[p].0 + job - self.first_job[p])
+    }
 }
 
 /// Starts up to `F::LANES` new jobs at the end of the pool (fewer when the pool or the jobs
@@ -45,9 +83,9 @@ pub(super) fn start<F: Float>(
     let lens = scene.camera.needs_aperture_sample();
     for i in 0..k {
         let job = jobs.next + i as u32;
-        let pixel = job / jobs.spp;
+        let (pixel, sample) = jobs.locate(job);
         let (x, y) = (jobs.x0 + pixel % jobs.width, jobs.y0 + pixel / jobs.width);
-        let mut st = SamplerState::start(scene.sampler.seed, x, y, jobs.s0 + job % jobs.spp);
+        let mut st = SamplerState::start(scene.sampler.seed, x, y, sample);
         // As `render::render_tile`: filter offset and lens point (rows 0–3), then the
         // wavelengths (row 4), from the next set if there is a lens.
         for row in u.iter_mut().take(if lens { 4 } else { 2 }) {

@@ -4,7 +4,8 @@
 //! # How the data flows
 //!
 //! A tile's pass is a list of jobs, one per (pixel, sample index), in the order the scalar
-//! loop takes them. A [`pool::Pool`] of at most [`POOL`] live paths, stored as one array per
+//! loop takes them (each pixel its own range of sample indices, which differ from pixel to
+//! pixel in an adaptive render). A [`pool::Pool`] of at most [`POOL`] live paths, stored as one array per
 //! field, is kept full from that list; each round
 //!
 //! 1. **refills** the pool: new jobs draw their wavelengths, filter offset and lens sample
@@ -71,6 +72,7 @@ pub use program::Program as WaveProgram;
 use super::path::{PathConfig, PathStrategy};
 use crate::accel::Isa;
 use crate::math::Ray;
+use crate::render::TileSums;
 use crate::scene::Scene;
 use crate::simd::Float;
 use crate::spectrum::SampledSpectrum;
@@ -117,16 +119,17 @@ impl Shadows {
     }
 }
 
-/// Renders samples [s0, s1) of every pixel of the tile with corner (x0, y0) and far corner
-/// (x1, y1) (exclusive); returns per-pixel sums (X, Y, Z, count), row-major.
+/// Renders the samples `ranges` (a range of sample indices per pixel, row-major) of the tile
+/// with corner (x0, y0) and far corner (x1, y1) (exclusive); returns per-pixel sums (X, Y, Z,
+/// count, Y²), row-major.
 pub fn render_tile(
     scene: &Scene,
     prog: &Program,
     corner: (u32, u32),
     far: (u32, u32),
-    samples: (u32, u32),
+    ranges: &[(u32, u32)],
     strategy: PathStrategy,
-) -> Vec<[f64; 4]> {
+) -> Vec<TileSums> {
     #[cfg(target_arch = "x86_64")]
     {
         // `run` with lanes `$lanes`, compiled for the instruction set `$features`.
@@ -138,9 +141,9 @@ pub fn render_tile(
                     p: &Program,
                     c: (u32, u32),
                     f: (u32, u32),
-                    n: (u32, u32),
+                    n: &[(u32, u32)],
                     st: PathStrategy,
-                ) -> Vec<[f64; 4]> {
+                ) -> Vec<TileSums> {
                     run::<$lanes>(s, p, c, f, n, st)
                 }
             };
@@ -154,12 +157,12 @@ pub fn render_tile(
         match scene.bvh.isa() {
             // SAFETY: the BVH only holds an instruction set the CPU supports (`Isa::best`,
             // `Bvh::set_isa`).
-            Isa::Avx512 => return unsafe { avx512(scene, prog, corner, far, samples, strategy) },
-            Isa::Avx2 => return unsafe { avx2(scene, prog, corner, far, samples, strategy) },
+            Isa::Avx512 => return unsafe { avx512(scene, prog, corner, far, ranges, strategy) },
+            Isa::Avx2 => return unsafe { avx2(scene, prog, corner, far, ranges, strategy) },
             Isa::Baseline => {}
         }
     }
-    run::<f32>(scene, prog, corner, far, samples, strategy)
+    run::<f32>(scene, prog, corner, far, ranges, strategy)
 }
 
 /// The rounds of [`render_tile`] with lanes of type `F`.
@@ -169,26 +172,17 @@ fn run<F: Float>(
     prog: &Program,
     (x0, y0): (u32, u32),
     (x1, y1): (u32, u32),
-    (s0, s1): (u32, u32),
+    ranges: &[(u32, u32)],
     strategy: PathStrategy,
-) -> Vec<[f64; 4]> {
+) -> Vec<TileSums> {
     let ctx = Ctx {
         scene,
         prog,
         cfg: PathConfig::new(scene, strategy),
         kind: scene.sampler.kind,
     };
-    let (tw, th) = (x1 - x0, y1 - y0);
-    let spp = s1 - s0;
-    let mut jobs = ends::Jobs {
-        x0,
-        y0,
-        width: tw,
-        s0,
-        spp,
-        count: tw * th * spp,
-        next: 0,
-    };
+    debug_assert_eq!(ranges.len() as u32, (x1 - x0) * (y1 - y0));
+    let mut jobs = ends::Jobs::new(x0, y0, x1 - x0, ranges);
     let mut results = vec![[0.0f32; 3]; jobs.count as usize];
     let mut pool = Pool::new();
     let mut rays: Vec<Ray> = Vec::with_capacity(POOL);
@@ -266,15 +260,16 @@ fn run<F: Float>(
     }
 
     // Per-pixel sums in sample order, as the scalar loop adds them.
-    results
-        .chunks(spp as usize)
-        .map(|samples| {
-            let mut acc = [0.0f64; 4];
-            for xyz in samples {
+    jobs.first_job
+        .windows(2)
+        .map(|j| {
+            let mut acc = [0.0f64; 5];
+            for xyz in &results[j[0] as usize..j[1] as usize] {
                 acc[0] += xyz[0] as f64;
                 acc[1] += xyz[1] as f64;
                 acc[2] += xyz[2] as f64;
                 acc[3] += 1.0;
+                acc[4] += xyz[1] as f64 * xyz[1] as f64;
             }
             acc
         })
