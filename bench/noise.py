@@ -12,8 +12,11 @@ samples per second, relVar × spp (noise per sample; lower is better), and its e
 relative to the first configuration, which is how much faster it reaches equal noise (median
 and range over `--repeats` pairs).
 
-usage: python3 bench/noise.py [SCENE.xml] [--res 320x180] [--spp 32] [--repeats 2]
+usage: python3 bench/noise.py [SCENE.xml] [--res 320x180] [--spp 32] [--repeats 2] [--cpu]
            [--config independent --config stratified --config "stratified:rr=1" ...]
+`--cpu` times each render by its CPU seconds (all threads) instead of its wall-clock seconds:
+on a shared machine a steadier measure of the work, for renders long enough that the
+summary's 10 ms resolution does not matter (its Msamples/s are then per CPU second).
 A configuration is SAMPLER[:NAME=VALUE,...]; the sampler is set through --sampler ophis's
 command line does not have, so the scene must read `$sampler` (the built-in scene does).
 Without SCENE the built-in scene (scenes/xenopeltis.xml) is used. Two names are not `-D`
@@ -50,6 +53,9 @@ def read_rgb(path):
     return np.stack([ch["R"], ch["G"], ch["B"]], axis=-1).astype(np.float64)
 
 
+CPU_TIME = False
+
+
 def render(scene, res, spp, seed, defines, out):
     defines = dict(defines)
     exe = defines.pop("exe", os.path.join(ROOT, "target", "release", "ophis"))
@@ -71,6 +77,11 @@ def render_seconds(summary):
     """The render time from ophis's summary line: its seconds are printed to 10 ms, too coarse
     for renders of a tenth of a second, so it is recomputed from the samples-per-second figure
     (four significant digits) and the samples (width × height × spp)."""
+    if CPU_TIME:
+        m = re.search(r"spp, [0-9.]+ s, ([0-9.]+) CPU s,", summary)
+        if not m:
+            sys.exit("ophis printed no CPU time:\n" + summary)
+        return float(m.group(1))
     m = re.search(r"(\d+)x(\d+), (\d+) spp, ([0-9.]+) s, .*?([0-9.]+) Msamples/s", summary)
     if not m:
         sys.exit("ophis printed no time:\n" + summary)
@@ -96,8 +107,11 @@ def main():
     ap.add_argument("--eps", type=float, default=1e-2)
     ap.add_argument("--config", action="append")
     ap.add_argument("--no-build", action="store_true")
+    ap.add_argument("--cpu", action="store_true", help="time renders by CPU seconds")
     ap.add_argument("--where", action="store_true", help="where the first configuration's noise lies")
     a = ap.parse_args()
+    global CPU_TIME
+    CPU_TIME = a.cpu
     import numpy as np
     configs = a.config or ["independent", "stratified"]
     res = tuple(int(v) for v in a.res.split("x"))
@@ -130,7 +144,8 @@ def main():
             stats[c]["rv"].append(float(np.mean(per_pixel)))
             stats[c].setdefault("maps", []).append(per_pixel)
     base = configs[0]
-    print(f"  {'configuration':<32} {'render s':>20} {'Msamples/s':>20} {'relVar × spp':>24} "
+    unit = "CPU s" if a.cpu else "render s"
+    print(f"  {'configuration':<32} {unit:>20} {'Msamples/s':>20} {'relVar × spp':>24} "
           f"{'equal-noise speed-up':>24}")
     for c, _ in parsed:
         t, rv = stats[c]["t"], stats[c]["rv"]
