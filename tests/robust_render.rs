@@ -151,14 +151,11 @@ fn adaptive_render_agrees_with_a_uniform_one() {
     assert!(va > 0.0 && vu > 0.0);
 }
 
-/// Interrupts an adaptive render of `spp` after `stop_after` tiles, saves it, resumes it and
-/// compares with an uninterrupted one.
-fn adaptive_resume_case(spp: u32, stop_after: usize) {
-    let scene = scene_of(spp, 5, true);
-    let mut whole = Film::new(scene.width, scene.height);
-    run(&scene, &mut whole, spp, TileOrder::RowMajor, 2);
-    let dir = temp(&format!("adaptive-{stop_after}"));
-    let state_path = dir.join("r.ophis-state");
+/// Renders `scene` on one thread in a shuffled tile order, writing a checkpoint after every
+/// tile and cancelling after `stop_after` tiles; returns the interrupted film, the state
+/// file's path (in a fresh directory named by `name`) and what it was written with.
+fn interrupt(scene: &Scene, spp: u32, stop_after: usize, name: &str) -> (Film, PathBuf, StateInfo) {
+    let state_path = temp(name).join("r.ophis-state");
     let info = StateInfo {
         scene_path: "reference.xml".into(),
         scene_hash: hash_bytes(b"reference"),
@@ -186,8 +183,19 @@ fn adaptive_resume_case(spp: u32, stop_after: usize) {
         .num_threads(1)
         .build()
         .unwrap();
-    let stats = pool.install(|| render_with(&scene, &mut part, 0, &opts(spp), &ctl));
+    let stats = pool.install(|| render_with(scene, &mut part, 0, &opts(spp), &ctl));
     assert!(stats.stopped_early);
+    (part, state_path, info)
+}
+
+/// Interrupts an adaptive render of `spp` after `stop_after` tiles, saves it, resumes it and
+/// compares with an uninterrupted one.
+fn adaptive_resume_case(spp: u32, stop_after: usize) {
+    let scene = scene_of(spp, 5, true);
+    let mut whole = Film::new(scene.width, scene.height);
+    run(&scene, &mut whole, spp, TileOrder::RowMajor, 2);
+    let (part, state_path, _) =
+        interrupt(&scene, spp, stop_after, &format!("adaptive-{stop_after}"));
     let state = RenderState::read(&state_path).unwrap();
     assert_eq!(
         state.film, part,
@@ -197,7 +205,7 @@ fn adaptive_resume_case(spp: u32, stop_after: usize) {
     run(&scene, &mut resumed, spp, TileOrder::Reversed, 2);
     assert!(bits(&resumed) == bits(&whole), "resumed render differs");
     assert_eq!(resumed.adaptive, whole.adaptive);
-    let _ = std::fs::remove_dir_all(&dir);
+    let _ = std::fs::remove_dir_all(state_path.parent().unwrap());
 }
 
 #[test]
@@ -227,37 +235,7 @@ fn interrupted_saved_and_resumed_render_equals_uninterrupted() {
     run(&scene, &mut whole, spp, TileOrder::RowMajor, 2);
 
     // Stop after 20 tiles: three passes of 6 tiles, then 2 tiles into the fourth.
-    let dir = temp("resume");
-    let state_path = dir.join("r.ophis-state");
-    let info = StateInfo {
-        scene_path: "reference.xml".into(),
-        scene_hash: hash_bytes(b"reference"),
-        seed: 5,
-        spp,
-        strategy: "mis".into(),
-        defines: vec![],
-    };
-    let cancel = AtomicBool::new(false);
-    let tiles_done = AtomicUsize::new(0);
-    let save = |f: &Film| {
-        info.write(f, &state_path).unwrap();
-        if tiles_done.fetch_add(1, Ordering::SeqCst) + 1 == 20 {
-            cancel.store(true, Ordering::SeqCst);
-        }
-    };
-    let ctl = RenderControl {
-        cancel: &cancel,
-        progress: &NoProgress,
-        checkpoint: Some((Duration::ZERO, &save)),
-        tile_order: TileOrder::Shuffled(9),
-    };
-    let mut part = Film::new(scene.width, scene.height);
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(1)
-        .build()
-        .unwrap();
-    let stats = pool.install(|| render_with(&scene, &mut part, 0, &opts(spp), &ctl));
-    assert!(stats.stopped_early);
+    let (part, state_path, info) = interrupt(&scene, spp, 20, "resume");
     let counts: std::collections::BTreeSet<u64> = part.pixels.iter().map(|p| p[3] as u64).collect();
     assert_eq!(
         counts.len(),
@@ -274,5 +252,5 @@ fn interrupted_saved_and_resumed_render_equals_uninterrupted() {
     let mut resumed = state.film;
     run(&scene, &mut resumed, spp, TileOrder::Reversed, 2);
     assert!(bits(&resumed) == bits(&whole), "resumed render differs");
-    let _ = std::fs::remove_dir_all(&dir);
+    let _ = std::fs::remove_dir_all(state_path.parent().unwrap());
 }
