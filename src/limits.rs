@@ -12,7 +12,7 @@
 //!
 //! | what                | bytes                                                        |
 //! |---------------------|--------------------------------------------------------------|
-//! | film                | 48 per pixel (f64 XYZ + count sums, f32 RGB image, PNG bytes) |
+//! | film                | 48 per pixel (f64 XYZ + count sums, f32 RGB image, PNG bytes; an adaptive render's state, 16 more, is within the coarseness) |
 //! | PLY mesh            | 32 per vertex + 112 per triangle (indices, BVH, build), counts from the header; a polygon counts as 2 triangles |
 //! | OBJ mesh            | file size × 6 (an OBJ line of ~30 bytes becomes ~180 bytes)   |
 //! | serialized mesh     | file size × 12 (zlib packs the ~44 bytes of a vertex and a triangle into ~15; the mesh needs ~150) |
