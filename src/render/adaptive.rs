@@ -23,7 +23,7 @@
 //! and the *mean* σ of the window, 0.151 over the eight nearest neighbours and 0.140 over the
 //! 5 × 5 window; with the root mean square over the 5 × 5 window (the settings here) 0.127,
 //! 2.35× less than uniform; but the snake's samples, which it now favours, cost more, 11 % more
-//! CPU per sample here and 22 % at 640×360 and 256 spp, so the time to equal noise falls about
+//! CPU per sample here and 27 % at 640×360 and 256 spp, so the time to equal noise falls about
 //! 2× (`--cpu --config=-:adaptive=false --config=-:adaptive=true`). A pilot of an eighth gave
 //! 0.135 (0.134 against 0.130 at 256 spp); with the mean σ of the 3 × 3 window, an eighth
 //! 0.177 and a half 0.136 against a quarter's 0.151; counts ∝ σ^0.75
