@@ -193,18 +193,6 @@ fn prepare_adaptive(scene: &Scene, film: &mut Film, spp: u32) {
     }
 }
 
-/// What the workers of one pass need of an adaptive render: the counts' arithmetic, without
-/// the film's per-pixel progress.
-fn allocation(film: &Film) -> Option<Adaptive> {
-    film.adaptive.as_ref().map(|a| Adaptive {
-        spp: a.spp,
-        pilot: a.pilot,
-        sq: Vec::new(),
-        done: Vec::new(),
-        targets: a.targets.clone(),
-    })
-}
-
 /// Like [`render`], with checkpoints and a tile order. Each tile resumes from the samples the
 /// film already holds for it, so an interrupted film (where some tiles finished a pass that
 /// others had not started) continues exactly where it stopped: the same sample indices are
@@ -269,7 +257,7 @@ pub fn render_with(
                 .map(|&t| (t, tile_spp(film, t.0, t.1).max(s0)))
                 .filter(|&(_, from)| from < s1)
                 .collect();
-            (todo, allocation(film))
+            (todo, film.adaptive.as_ref().map(Adaptive::plan))
         };
         let in_pilot = pilot.is_some_and(|p| s1 <= p);
         let missed = AtomicBool::new(false);

@@ -58,6 +58,25 @@ pub(crate) fn refract(wi: Vec3, n: Vec3, eta: f32) -> Option<Vec3> {
     Some(-wi / eta + (cos_i / eta - cos_t) * n)
 }
 
+/// The bracket [lo, hi] around where an increasing `f` reaches `target`, after `steps` halvings
+/// of the starting bracket: each step keeps the half whose lower end has f < target.
+pub fn bisect_increasing(
+    f: impl Fn(f64) -> f64,
+    target: f64,
+    (mut lo, mut hi): (f64, f64),
+    steps: u32,
+) -> (f64, f64) {
+    for _ in 0..steps {
+        let mid = 0.5 * (lo + hi);
+        if f(mid) < target {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    (lo, hi)
+}
+
 /// Power heuristic with β = 2 for multiple importance sampling (Veach 1997).
 #[inline]
 pub fn power_heuristic(f_pdf: f32, g_pdf: f32) -> f32 {

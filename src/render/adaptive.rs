@@ -97,6 +97,26 @@ impl Adaptive {
         })
     }
 
+    /// What the workers of a pass need: the counts, without the per-pixel progress.
+    pub fn plan(&self) -> Plan {
+        Plan {
+            spp: self.spp,
+            pilot: self.pilot,
+            targets: self.targets.clone(),
+        }
+    }
+}
+
+/// An adaptive render's per-pixel counts, as the workers of one pass read them.
+#[derive(Clone, Debug)]
+pub struct Plan {
+    spp: u32,
+    pilot: u32,
+    /// Empty during the pilot.
+    targets: Vec<u32>,
+}
+
+impl Plan {
     /// The samples pixel `i` holds at the end of nominal pass `s` (the module notes' f_i).
     #[inline]
     pub fn samples_at(&self, i: usize, s: u32) -> u32 {
@@ -156,15 +176,8 @@ pub fn targets(film: &Film, a: &Adaptive) -> Vec<u32> {
     let (lo, hi) = (a.pilot as f64, (a.spp as f64) * MAX_FACTOR as f64);
     let budget = a.spp as f64 * (w * h) as f64;
     let spent = |lambda: f64| -> f64 { around.iter().map(|v| (lambda * v).clamp(lo, hi)).sum() };
-    let (mut l0, mut l1) = (0.0f64, hi / floor);
-    for _ in 0..100 {
-        let mid = 0.5 * (l0 + l1);
-        if spent(mid) < budget {
-            l0 = mid;
-        } else {
-            l1 = mid;
-        }
-    }
+    // λ = hi / floor puts every pixel at the cap, past the budget.
+    let (_, l1) = crate::math::bisect_increasing(spent, budget, (0.0, hi / floor), 100);
     around
         .iter()
         .map(|v| ((l1 * v).clamp(lo, hi) + 0.5).floor() as u32)
@@ -228,11 +241,12 @@ mod tests {
     fn nominal_passes_reach_each_target_monotonically() {
         let mut a = Adaptive::new(100, 3).unwrap();
         a.targets = vec![25, 100, 1600];
+        let p = a.plan();
         for i in 0..3 {
-            assert_eq!(a.samples_at(i, a.pilot), a.pilot);
-            assert_eq!(a.samples_at(i, a.spp), a.targets[i]);
+            assert_eq!(p.samples_at(i, a.pilot), a.pilot);
+            assert_eq!(p.samples_at(i, a.spp), a.targets[i]);
             for s in a.pilot..a.spp {
-                assert!(a.samples_at(i, s) <= a.samples_at(i, s + 1));
+                assert!(p.samples_at(i, s) <= p.samples_at(i, s + 1));
             }
         }
         assert_eq!(pilot(4), None);

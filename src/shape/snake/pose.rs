@@ -98,18 +98,11 @@ pub(crate) fn centreline(p: &SnakeParams, n: usize) -> Centreline {
                     })
                     .sum::<f64>()
             };
-            let (mut lo, mut hi) = (0.0, 1.0);
+            let mut hi = 1.0;
             while length_to(hi) < len {
                 hi *= 2.0;
             }
-            for _ in 0..60 {
-                let mid = 0.5 * (lo + hi);
-                if length_to(mid) < len {
-                    lo = mid;
-                } else {
-                    hi = mid;
-                }
-            }
+            let (lo, hi) = crate::math::bisect_increasing(length_to, len, (0.0, hi), 60);
             let big_phi = 0.5 * (lo + hi);
             let turn = p.phase as f64;
             // τ = 0 is the snout (outside), τ = 1 the tail tip (centre).
