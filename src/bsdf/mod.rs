@@ -259,17 +259,17 @@ impl Bxdf {
         }
     }
 
-    /// Whether this BSDF's own samples should carry the light of uniform environments alone,
+    /// Whether this BSDF's own samples should carry the light of smooth environments alone,
     /// without light samples ([`crate::light::LightSampler::sample_for`]; measurements in
     /// [`crate::integrator::path`]'s notes), where `other_lights` says whether next-event
     /// estimation has other lights to choose. True for the BSDFs with a glossy or delta lobe
     /// that sample f · cos closely and choose their lobes in proportion to their albedos
     /// (rough conductors, dielectrics, films and stacks, the plastics, closed-form coats); for
-    /// the Lambertian surface only beside other lights (its cosine samples carry the sky as
-    /// well as cosine light samples do, which are better spent on a sun or a lamp; with the sky
-    /// alone they are a second look at its visibility); never for the random walk, whose own
-    /// samples are noisy.
-    pub fn samples_uniform_env(&self, other_lights: bool) -> bool {
+    /// the Lambertian surface only beside other lights (its cosine samples carry a smooth sky
+    /// about as well as the sky's own light samples do, which are better spent on a sun or a
+    /// lamp; with the sky alone they are a second look at its visibility); never for the random
+    /// walk, whose own samples are noisy.
+    pub fn samples_smooth_env(&self, other_lights: bool) -> bool {
         match self {
             Bxdf::RoughDielectric(_)
             | Bxdf::RoughConductor(_)
@@ -422,9 +422,9 @@ impl Bsdf {
         (wo, wi)
     }
 
-    /// [`Bxdf::samples_uniform_env`].
-    pub fn samples_uniform_env(&self, other_lights: bool) -> bool {
-        self.bxdf.samples_uniform_env(other_lights)
+    /// [`Bxdf::samples_smooth_env`].
+    pub fn samples_smooth_env(&self, other_lights: bool) -> bool {
+        self.bxdf.samples_smooth_env(other_lights)
     }
 
     /// BSDF value for world-space directions.

@@ -189,31 +189,32 @@ impl Distribution2D {
 /// it, so the variance of its contribution is at most twice that of the better rule. Lights of
 /// zero power are never chosen unless every light has zero power; then the choice is uniform.
 ///
-/// A second distribution leaves out the uniform environments (`constant`): the same choice
+/// A second distribution leaves out the smooth environments (`constant`, Preetham's `sky`;
+/// see [`crate::integrator::path`]'s module notes): the same choice
 /// conditioned on not picking one, for vertices whose BSDF samples such a light better than
 /// light sampling can (see [`crate::integrator::path`]'s module notes).
 #[derive(Clone, Debug)]
 pub struct LightSampler {
     dist: Option<Distribution1D>,
-    /// The choice without uniform environments; `None` when no other light can be chosen.
+    /// The choice without smooth environments; `None` when no other light can be chosen.
     without_env: Option<Distribution1D>,
-    /// Whether light `i` is a uniform environment.
-    uniform_env: Vec<bool>,
+    /// Whether light `i` is a smooth environment.
+    smooth_env: Vec<bool>,
 }
 
 /// The share of the probability spread evenly over the emitting lights.
 pub(crate) const UNIFORM_SHARE: f64 = 0.5;
 
 impl LightSampler {
-    /// A sampler for lights of the given powers, none of them a uniform environment.
+    /// A sampler for lights of the given powers, none of them a smooth environment.
     pub fn new(powers: &[f32]) -> LightSampler {
-        LightSampler::with_uniform_envs(powers, &vec![false; powers.len()])
+        LightSampler::with_smooth_envs(powers, &vec![false; powers.len()])
     }
 
-    /// A sampler for lights of the given powers, where `uniform_env[i]` says whether light `i`
-    /// is a uniform environment.
-    pub fn with_uniform_envs(powers: &[f32], uniform_env: &[bool]) -> LightSampler {
-        assert_eq!(powers.len(), uniform_env.len());
+    /// A sampler for lights of the given powers, where `smooth_env[i]` says whether light `i`
+    /// is a smooth environment.
+    pub fn with_smooth_envs(powers: &[f32], smooth_env: &[bool]) -> LightSampler {
+        assert_eq!(powers.len(), smooth_env.len());
         let ok = |p: f32| p.is_finite() && p > 0.0;
         let total: f64 = powers.iter().filter(|&&p| ok(p)).map(|&p| p as f64).sum();
         let emitting = powers.iter().filter(|&&p| ok(p)).count();
@@ -233,34 +234,34 @@ impl LightSampler {
         let dist = (!powers.is_empty()).then(|| Distribution1D::new(&weights));
         let without_env = dist.as_ref().and_then(|d| {
             let w: Vec<f32> = (0..powers.len())
-                .map(|i| if uniform_env[i] { 0.0 } else { d.pmf(i) })
+                .map(|i| if smooth_env[i] { 0.0 } else { d.pmf(i) })
                 .collect();
             w.iter().any(|&x| x > 0.0).then(|| Distribution1D::new(&w))
         });
         LightSampler {
             dist,
             without_env,
-            uniform_env: uniform_env.to_vec(),
+            smooth_env: smooth_env.to_vec(),
         }
     }
 
-    /// Whether some light is a uniform environment (so that leaving them out changes the
+    /// Whether some light is a smooth environment (so that leaving them out changes the
     /// choice).
-    pub fn has_uniform_env(&self) -> bool {
-        self.uniform_env.iter().any(|&u| u)
+    pub fn has_smooth_env(&self) -> bool {
+        self.smooth_env.iter().any(|&u| u)
     }
 
-    /// Whether some light besides the uniform environments can be chosen.
+    /// Whether some light besides the smooth environments can be chosen.
     pub fn has_other_lights(&self) -> bool {
         self.without_env.is_some()
     }
 
-    /// Whether light `i` is a uniform environment.
-    pub(crate) fn is_uniform_env(&self, i: usize) -> bool {
-        self.uniform_env.get(i).copied().unwrap_or(false)
+    /// Whether light `i` is a smooth environment.
+    pub(crate) fn is_smooth_env(&self, i: usize) -> bool {
+        self.smooth_env.get(i).copied().unwrap_or(false)
     }
 
-    /// Picks a light, leaving out the uniform environments when `no_env`: (index,
+    /// Picks a light, leaving out the smooth environments when `no_env`: (index,
     /// probability); `None` when there is nothing to choose.
     pub fn sample_for(&self, u: f32, no_env: bool) -> Option<(usize, f32)> {
         if !no_env {
@@ -278,7 +279,7 @@ impl LightSampler {
         self.without_env.as_ref().map_or(0.0, |d| d.pmf(i))
     }
 
-    /// [`LightSampler::sample_for`] on lanes, leaving out the uniform environments in the
+    /// [`LightSampler::sample_for`] on lanes, leaving out the smooth environments in the
     /// lanes of `no_env`: (light, probability; 0 where nothing can be chosen), `None` without
     /// lights.
     #[inline(always)]
@@ -452,12 +453,12 @@ mod tests {
     }
 
     #[test]
-    fn choice_without_uniform_environments_is_the_conditional_choice() {
-        // Lights 1 and 3 are uniform environments; light 4 emits nothing.
+    fn choice_without_smooth_environments_is_the_conditional_choice() {
+        // Lights 1 and 3 are smooth environments; light 4 emits nothing.
         let powers = [2.0, 30.0, 6.0, 5.0, 0.0];
         let env = [false, true, false, true, false];
-        let s = LightSampler::with_uniform_envs(&powers, &env);
-        assert!(s.has_uniform_env() && s.is_uniform_env(3) && !s.is_uniform_env(0));
+        let s = LightSampler::with_smooth_envs(&powers, &env);
+        assert!(s.has_smooth_env() && s.is_smooth_env(3) && !s.is_smooth_env(0));
         let rest = s.pmf(0) + s.pmf(2);
         for (i, &is_env) in env.iter().enumerate() {
             let want = if is_env { 0.0 } else { s.pmf(i) / rest };
@@ -484,7 +485,7 @@ mod tests {
             assert_eq!(Some((i, p)), s.sample_for(u, no_env), "u = {u}");
         }
         // Only environments: nothing to choose without them; none at all: no choice.
-        let only = LightSampler::with_uniform_envs(&[1.0, 0.0], &[true, false]);
+        let only = LightSampler::with_smooth_envs(&[1.0, 0.0], &[true, false]);
         assert!(only.sample_for(0.3, true).is_none());
         assert_eq!(only.pmf_for(0, true), 0.0);
         assert_eq!(
@@ -492,7 +493,7 @@ mod tests {
             Some(0.0)
         );
         let plain = LightSampler::new(&[1.0, 2.0]);
-        assert!(!plain.has_uniform_env());
+        assert!(!plain.has_smooth_env());
         assert_eq!(plain.sample_for(0.7, true), plain.sample(0.7));
     }
 }

@@ -1,5 +1,5 @@
 //! Next-event estimation in lanes: each lane picks a light
-//! ([`crate::light::LightSampler::sample_lanes_for`], leaving uniform environments out where
+//! ([`crate::light::LightSampler::sample_lanes_for`], leaving smooth environments out where
 //! its vertex leaves them to the BSDF) and samples a direction to it. Mesh area lights are
 //! sampled in lanes; the other lights by their own scalar `sample_li`, lane by lane.
 
@@ -55,7 +55,7 @@ pub(super) fn sample_lights<F: Float>(
     let Some((chosen, pmf)) = scene.light_sampler.sample_lanes_for(u_light, no_env) else {
         return no_sample;
     };
-    // Lanes left with nothing to choose (only uniform environments, all left out) take no
+    // Lanes left with nothing to choose (only smooth environments, all left out) take no
     // sample, as the scalar `sample_for` returns none.
     let m = m & pmf.gt(zero);
     // Per lane: what depends on the chosen light's own tables.

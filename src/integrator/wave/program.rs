@@ -118,7 +118,7 @@ pub struct Program {
     pub(super) light_lanes: Vec<u32>,
     /// Per light: the probability of choosing it.
     pub(super) light_pmf: Vec<f32>,
-    /// Per light: the probability of choosing it at a vertex that leaves uniform environments
+    /// Per light: the probability of choosing it at a vertex that leaves smooth environments
     /// to its BSDF ([`crate::light::LightSampler::pmf_for`]).
     pub(super) light_pmf_no_env: Vec<f32>,
     /// Per light: its radiance spectrum entry (lane lights only).

@@ -248,12 +248,13 @@ fn build_scene(
         .map(|(i, _)| i as u32)
         .collect();
     let powers: Vec<f32> = b.lights.iter().map(|l| l.power(&b.shapes)).collect();
-    let uniform: Vec<bool> = b
+    // The environments a BSDF's own samples carry well (`integrator::path`'s module notes).
+    let smooth: Vec<bool> = b
         .lights
         .iter()
-        .map(|l| matches!(l, Light::Constant(_)))
+        .map(|l| matches!(l, Light::Constant(_) | Light::Sky(_)))
         .collect();
-    let light_sampler = LightSampler::with_uniform_envs(&powers, &uniform);
+    let light_sampler = LightSampler::with_smooth_envs(&powers, &smooth);
     if b.lights.is_empty() {
         b.warn(root, "the scene has no emitters: the image will be black");
     }
