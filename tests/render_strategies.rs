@@ -121,8 +121,9 @@ fn mis_leaving_the_sky_to_glossy_bsdfs_agrees_with_bsdf_sampling() {
 
 /// Preetham's sky is a smooth environment too: under `sunsky`, MIS leaves the sky to the BSDF
 /// samples of the glossy spheres and of the Lambertian ground (which choose only the sun for
-/// next-event estimation), while light sampling alone reaches the sky by its own samples
-/// everywhere; the two must agree.
+/// next-event estimation), and the random walk of the small front sphere keeps the full choice,
+/// where the sky takes only its power's share; light sampling alone reaches the sky by its own
+/// samples everywhere. The two must agree.
 const GLOSSY_UNDER_SUNSKY: &str = r#"<scene version="3.0.0">
     <integrator type="path"><integer name="max_depth" value="3"/></integrator>
     <sensor type="perspective">
@@ -144,6 +145,12 @@ const GLOSSY_UNDER_SUNSKY: &str = r#"<scene version="3.0.0">
         <bsdf type="multilayered">
             <bsdf type="thinfilm" name="surface_0"><float name="film_thickness" value="400"/></bsdf>
             <bsdf type="diffuse" name="surface_1"><rgb name="reflectance" value="0.05"/></bsdf>
+        </bsdf></shape>
+    <shape type="sphere"><point name="center" x="0" y="0.3" z="0.9"/><float name="radius" value="0.3"/>
+        <bsdf type="multilayered">
+            <bsdf type="roughthinfilm" name="surface_0"><float name="alpha" value="0.1"/>
+                <float name="film_thickness" value="400"/></bsdf>
+            <bsdf type="diffuse" name="surface_1"><rgb name="reflectance" value="0.4"/></bsdf>
         </bsdf></shape>
     <shape type="rectangle"><transform name="to_world"><scale value="3"/><rotate x="1" angle="-90"/></transform>
         <bsdf type="diffuse"><rgb name="reflectance" value="0.5, 0.45, 0.4"/></bsdf></shape>

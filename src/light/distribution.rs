@@ -189,6 +189,17 @@ impl Distribution2D {
 /// it, so the variance of its contribution is at most twice that of the better rule. Lights of
 /// zero power are never chosen unless every light has zero power; then the choice is uniform.
 ///
+/// The even half is spread over the lights that only light sampling reaches well: the smooth
+/// environments (below) take their power's share alone wherever another light emits, since a
+/// BSDF's own samples are their defensive technique already (multiple importance sampling
+/// counts them at every vertex). Without that, a vertex that keeps the full choice (the random
+/// walk of `multilayered`) gave the flagship's sky a quarter of its light samples on top of its
+/// power's share, 32 % in all for 8 % of the light, and the sun's glints on the snake's back
+/// had two thirds of the light samples where they now have 93 %: relVar × spp 0.103 → 0.080,
+/// 1.34× (1.23–1.42×) faster to equal noise (`bench/noise.py --spp 64 --repeats 3 --cpu`,
+/// 320×180, 2026-12-03); the thin-film sphere with the walked coat under its grey `constant`
+/// sky and a sun is level (0.0059 → 0.0061 at 1.03× the speed, 1.01×; 96², 64 spp, 2 pairs).
+///
 /// A second distribution leaves out the smooth environments (`constant`, Preetham's `sky`;
 /// see [`crate::integrator::path`]'s module notes): the same choice
 /// conditioned on not picking one, for vertices whose BSDF samples such a light better than
@@ -217,13 +228,24 @@ impl LightSampler {
         assert_eq!(powers.len(), smooth_env.len());
         let ok = |p: f32| p.is_finite() && p > 0.0;
         let total: f64 = powers.iter().filter(|&&p| ok(p)).map(|&p| p as f64).sum();
-        let emitting = powers.iter().filter(|&&p| ok(p)).count();
+        // The lights that share the even half: the emitting ones that light sampling alone
+        // reaches well, or every emitting light where there are none of those.
+        let others = (0..powers.len()).any(|i| ok(powers[i]) && !smooth_env[i]);
+        let sharing = |i: usize| ok(powers[i]) && (!others || !smooth_env[i]);
+        let n_sharing = (0..powers.len()).filter(|&i| sharing(i)).count();
+        let even = |i: usize| {
+            if sharing(i) {
+                UNIFORM_SHARE / n_sharing as f64
+            } else {
+                0.0
+            }
+        };
         let weights: Vec<f32> = powers
             .iter()
-            .map(|&p| {
+            .enumerate()
+            .map(|(i, &p)| {
                 if ok(p) && total.is_finite() {
-                    (UNIFORM_SHARE / emitting as f64 + (1.0 - UNIFORM_SHARE) * p as f64 / total)
-                        as f32
+                    (even(i) + (1.0 - UNIFORM_SHARE) * p as f64 / total) as f32
                 } else if ok(p) {
                     1.0 // powers overflowing f64 are all "huge": share evenly
                 } else {
@@ -459,6 +481,22 @@ mod tests {
         let env = [false, true, false, true, false];
         let s = LightSampler::with_smooth_envs(&powers, &env);
         assert!(s.has_smooth_env() && s.is_smooth_env(3) && !s.is_smooth_env(0));
+        // The environments take their power's share alone; the even half goes to lights 0
+        // and 2 (the non-environments that emit).
+        let total = 43.0f32;
+        for (i, want) in [
+            (0, 0.25 + 0.5 * 2.0 / total),
+            (1, 0.5 * 30.0 / total),
+            (2, 0.25 + 0.5 * 6.0 / total),
+            (3, 0.5 * 5.0 / total),
+            (4, 0.0),
+        ] {
+            assert!(
+                (s.pmf(i) - want).abs() < 1e-6,
+                "{i}: {} vs {want}",
+                s.pmf(i)
+            );
+        }
         let rest = s.pmf(0) + s.pmf(2);
         for (i, &is_env) in env.iter().enumerate() {
             let want = if is_env { 0.0 } else { s.pmf(i) / rest };
