@@ -27,6 +27,7 @@ def render(
     seed: int = 0,
     threads: Optional[int] = None,
     progress: Optional[Callable[[int, int], None]] = None,
+    adaptive: Optional[bool] = None,
 ) -> tuple[bytearray, int, int, list[str], Pairs, dict, Optional[BaseException]]: ...
 def write(path: str, width: int, height: int, data: bytes, metadata: Pairs,
           extra_names: list[str] = ..., extra: Optional[bytes] = ...) -> None: ...

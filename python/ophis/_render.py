@@ -88,7 +88,8 @@ def _bar() -> tuple[ProgressFn, Callable[[], None]]:
 
 def render(scene: Scene, spp: Optional[int] = None, seed: int = 0,
            threads: Optional[int] = None,
-           progress: Union[bool, ProgressFn, None] = True) -> np.ndarray:
+           progress: Union[bool, ProgressFn, None] = True,
+           adaptive: Optional[bool] = None) -> np.ndarray:
     """Renders a scene and returns its image, H × W × 3 float32 linear sRGB.
 
     Args:
@@ -100,6 +101,9 @@ def render(scene: Scene, spp: Optional[int] = None, seed: int = 0,
         progress: ``True`` for a progress bar (tqdm's where installed, else text on stderr),
             ``False`` for none, or a function called with (samples done, samples in all)
             about ten times a second from the calling thread.
+        adaptive: ``True`` spends the same samples unevenly, more where neighbouring pixels
+            are noisy (``ophis render --adaptive on``; README, "Adaptive sampling"), ``False``
+            evenly; without it, as the scene's sampler says (the built-in scene: adaptive).
 
     The GIL is released while rendering. Ctrl-C (KeyboardInterrupt) stops the render once the
     tiles in flight finish: the image of the samples taken, each pixel normalised by its own
@@ -118,6 +122,8 @@ def render(scene: Scene, spp: Optional[int] = None, seed: int = 0,
     if threads is not None and (isinstance(threads, bool) or int(threads) != threads
                                 or threads < 1):
         raise ValueError(f"threads must be a whole number ≥ 1, got {threads!r}")
+    if adaptive is not None and not isinstance(adaptive, bool):
+        raise TypeError(f"adaptive must be True, False or None, got {adaptive!r}")
     close = lambda: None  # noqa: E731
     if progress is True:
         callback, close = _bar()
@@ -130,7 +136,7 @@ def render(scene: Scene, spp: Optional[int] = None, seed: int = 0,
     try:
         data, h, w, channels, meta, stats, stopped_by = _ophis.render(
             scene._native, None if spp is None else int(spp), int(seed),
-            None if threads is None else int(threads), callback)
+            None if threads is None else int(threads), callback, adaptive)
     finally:
         close()
     image = np.frombuffer(data, dtype=np.float32).reshape(h, w, len(channels))

@@ -4,9 +4,7 @@
 //! Nothing here knows Python. It speaks plain Rust — paths, strings, flat `f32` buffers,
 //! [`Error`] — and `lib.rs` turns that into Python objects and exceptions.
 
-use ophis::tools::inspect::{at_wavelength, bsdf_ids, find_bsdf, linear_srgb, Quantity};
 use ophis::film::Film;
-use ophis::scene::builtin::XENOPELTIS_XML;
 use ophis::image_io::{
     read_exr_metadata, read_image, write_exr, write_exr_channels, write_png, ImageError, RgbImage,
 };
@@ -18,8 +16,10 @@ use ophis::optics::ior::Ior;
 use ophis::optics::stackspec::parse_items;
 use ophis::render::{render_with, Progress, RenderControl, RenderOptions, TileOrder};
 use ophis::scene::build::{build_material, load_scene, load_scene_str, LoadOptions};
+use ophis::scene::builtin::XENOPELTIS_XML;
 use ophis::scene::mitsuba::{self, Node, SceneError};
 use ophis::scene::Scene;
+use ophis::tools::inspect::{at_wavelength, bsdf_ids, find_bsdf, linear_srgb, Quantity};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
@@ -128,6 +128,8 @@ pub struct Warning(pub Located);
 pub struct LoadedScene {
     scene: Scene,
     identity: SceneIdentity,
+    /// The scene's own `adaptive` (its sampler's), which a render's choice overrides once.
+    adaptive: bool,
 }
 
 /// Loads and builds a scene; `defines` are Mitsuba's `-D name=value`.
@@ -155,7 +157,15 @@ pub fn load(
             })
         })
         .collect();
-    Ok((LoadedScene { scene, identity }, warnings))
+    let adaptive = scene.sampler.adaptive;
+    Ok((
+        LoadedScene {
+            scene,
+            identity,
+            adaptive,
+        },
+        warnings,
+    ))
 }
 
 impl LoadedScene {
@@ -178,6 +188,10 @@ impl LoadedScene {
     /// Sets the seed of the sample sequences for the next render.
     pub fn set_seed(&mut self, seed: u64) {
         self.scene.sampler.seed = seed;
+    }
+    /// Sets adaptive sampling on or off for the next render; `None`: the scene's own choice.
+    pub fn set_adaptive(&mut self, adaptive: Option<bool>) {
+        self.scene.sampler.adaptive = adaptive.unwrap_or(self.adaptive);
     }
 }
 

@@ -156,7 +156,7 @@ const POLL: Duration = Duration::from_millis(100);
 /// is what stopped the render early (KeyboardInterrupt, or one raised by `progress`); the image
 /// then holds the samples taken, and the caller re-raises it after keeping the image.
 #[pyfunction]
-#[pyo3(signature = (scene, spp=None, seed=0, threads=None, progress=None))]
+#[pyo3(signature = (scene, spp=None, seed=0, threads=None, progress=None, adaptive=None))]
 fn render<'py>(
     py: Python<'py>,
     scene: &Bound<'py, Scene>,
@@ -164,6 +164,7 @@ fn render<'py>(
     seed: u64,
     threads: Option<usize>,
     progress: Option<Bound<'py, PyAny>>,
+    adaptive: Option<bool>,
 ) -> PyResult<Bound<'py, PyTuple>> {
     let sc = scene.get();
     let mut inner = sc.inner.try_lock().map_err(|_| {
@@ -173,6 +174,7 @@ fn render<'py>(
         )
     })?;
     inner.set_seed(seed);
+    inner.set_adaptive(adaptive);
     let loaded: &LoadedScene = &inner;
     let cancel = AtomicBool::new(false);
     let counter = Counter::default();

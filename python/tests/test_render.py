@@ -33,6 +33,22 @@ def test_render_is_the_cli_render(tmp_path, cli, reference_xml, scene):
     assert info.spp == 6 and info.seeds == (3,)
 
 
+def test_adaptive_is_the_cli_adaptive_and_lasts_one_render(tmp_path, cli, reference_xml, scene):
+    """`adaptive=True` renders as `ophis render --adaptive on`, bit for bit; the next render
+    without it goes back to the scene's own sampler (uniform here)."""
+    cli("render", reference_xml, "--spp", 8, "--seed", 3, "--adaptive", "on", "-q",
+        "-o", tmp_path / "a.exr")
+    want, _ = ophis.read(tmp_path / "a.exr")
+    uniform = ophis.render(scene, spp=8, seed=3, progress=False)
+    got = ophis.render(scene, spp=8, seed=3, progress=False, adaptive=True)
+    assert np.array_equal(got, want) and not np.array_equal(got, uniform)
+    # The same budget, each pixel's share rounded to whole samples.
+    assert abs(scene.last_render.samples - 8 * 64 * 48) <= 0.001 * 8 * 64 * 48
+    assert np.array_equal(ophis.render(scene, spp=8, seed=3, progress=False), uniform)
+    assert np.array_equal(ophis.render(scene, spp=8, seed=3, progress=False, adaptive=False),
+                          uniform)
+
+
 def test_threads_do_not_change_the_image_and_seeds_do(scene, reference_xml):
     a = ophis.render(scene, spp=3, seed=1, threads=1, progress=False)
     b = ophis.render(scene, spp=3, seed=1, threads=3, progress=False)
@@ -171,6 +187,7 @@ def test_sigint_to_a_python_process_rendering(tmp_path, reference_xml, scene):
 @pytest.mark.parametrize("kw, err", [
     ({"spp": 0}, ValueError), ({"spp": -3}, ValueError), ({"spp": 1.5}, ValueError),
     ({"seed": -1}, ValueError), ({"threads": 0}, ValueError), ({"progress": 3}, TypeError),
+    ({"adaptive": "on"}, TypeError), ({"adaptive": 1}, TypeError),
 ])
 def test_bad_arguments_raise(scene, kw, err):
     with pytest.raises(err):
