@@ -31,7 +31,9 @@
 //! the `constant` one and, beside a light that is neither (the sun, a lamp), Preetham's clear
 //! sky (`sky`, the sky of `sunsky`), whose radiance varies slowly over the sphere (its
 //! brightest part is the broad glow around the sun, not a feature a BSDF's samples would
-//! miss); a bitmap `envmap` may hold a sun or a window and is not one. At a vertex whose BSDF has a
+//! miss); a bitmap `envmap` may hold a sun or a window and is not one.
+//!
+//! At a vertex whose BSDF has a
 //! glossy or delta lobe and samples f · cos closely ([`crate::bsdf::Bxdf::samples_smooth_env`]:
 //! rough conductors, dielectrics and films, the plastics, the closed-form coats) the BSDF's own
 //! samples carry a smooth environment with little variance: they are drawn in proportion to
@@ -52,8 +54,8 @@
 //! The sky joined the constant environment in that class in the eleventh session: on the
 //! flagship (`bench/noise.py --spp 64 --repeats 3 --cpu`, 320×180, adaptive, 2026-12-03) the
 //! ground's Lambertian vertices then spend their light samples on the sun, which had shared
-//! them with the sky (the sky's half of the even mixture and its share of the power took ~40 %
-//! of them), and the sky's light on the ground comes from the cosine samples: relVar × spp
+//! them with the sky (its part of the even mixture and its share of the power took 32 % of
+//! them), and the sky's light on the ground comes from the cosine samples: relVar × spp
 //! 0.127 → 0.103 at 1.06× the CPU per sample, 1.23× (1.10–1.27×) faster to equal noise.
 //! With the light choice of [`crate::light::LightSampler`] (the sky's share of it no longer
 //! padded), `scenes/daylight.xml` (a diffuse and a rough gold sphere on a diffuse ground,
