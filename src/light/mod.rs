@@ -7,6 +7,7 @@
 //! and `le` / `l` give the radiance a ray sees when it escapes the scene or hits an emitter.
 
 pub mod area;
+pub mod choice;
 pub mod constant;
 pub mod directional;
 pub mod distribution;
@@ -16,9 +17,10 @@ pub mod point;
 pub mod sunsky;
 
 pub use area::AreaLight;
+pub use choice::LightSampler;
 pub use constant::ConstantLight;
 pub use directional::DirectionalLight;
-pub use distribution::{Distribution1D, Distribution2D, LightSampler};
+pub use distribution::{Distribution1D, Distribution2D};
 pub use envmap::{EnvMapError, EnvMapLight};
 pub use infinite::AtInfinity;
 pub use point::PointLight;
