@@ -18,7 +18,9 @@ and the range (min–max) over the repeats of:
 - Msamples/s from the render time, and ophis ÷ Mitsuba per repeat (> 1: ophis is faster), for
   render, render CPU and process times.
 
-and each image's mean linear-sRGB colour so that a mismatch between the scenes shows.
+and each image's mean linear-sRGB colour so that a mismatch between the scenes shows; then where
+ophis's render time went (`ophis render --stats`: each wavefront stage's share of the threads'
+time, rays per sample, time per traced ray), medians over the repeats.
 
 usage: python3 bench/run.py [--spp 64] [--res 256] [--repeats 3] [--no-build] [--no-mitsuba]
                             [--scenes cornell-box,cornell-mesh] [--variants llvm_ad_spectral,...]
@@ -50,7 +52,8 @@ mi.Bitmap(img).write(out)
 
 def ophis_render(scene, spp, res, defines, out):
     exe = os.path.join(ROOT, "target", "release", "ophis")
-    cmd = [exe, "render", scene, "-Dspp=%d" % spp, "-Dres=%d" % res, "-o", out, "--quiet"]
+    cmd = [exe, "render", scene, "-Dspp=%d" % spp, "-Dres=%d" % res, "-o", out, "--quiet",
+           "--stats"]
     cmd += ["-D%s=%s" % kv for kv in defines.items()]
     t0 = time.time()
     p = subprocess.run(cmd, capture_output=True, text=True)
@@ -61,7 +64,23 @@ def ophis_render(scene, spp, res, defines, out):
     secs = float(m.group(1)) if m else wall
     c = re.search(r" s, ([0-9.]+|NaN) CPU s,", p.stderr)
     cpu = float(c.group(1)) if c else float("nan")
+    STAGES.append(parse_stages(p.stderr))
     return secs, cpu, wall
+
+
+# The `--stats` report of every ophis render of the current scene.
+STAGES = []
+
+
+def parse_stages(stderr):
+    """The stage shares (%) and per-sample ray counts of `ophis render --stats`, or None."""
+    line = next((l for l in stderr.splitlines() if l.startswith("stats: wavefront stages")), None)
+    rays = re.search(r"per sample ([0-9.]+) rays and ([0-9.]+) shadow rays; ([0-9.]+) ns per "
+                     r"traced ray", stderr)
+    if line is None or rays is None:
+        return None
+    shares = dict((k, float(v)) for k, v in re.findall(r"([a-z ]+) ([0-9.]+) %", line.split(": ", 2)[2]))
+    return {k.strip(): v for k, v in shares.items()}, tuple(float(x) for x in rays.groups())
 
 
 def mean_rgb_exr(path):
@@ -157,6 +176,7 @@ def main():
             rows[v] = {"render": [], "cpu": [], "process": []}
         means = {}
         failed = {}
+        STAGES.clear()
         for _ in range(a.repeats):
             out = os.path.join(OUT, f"{name}-ophis.exr")
             secs, cpu, wall = ophis_render(scene, a.spp, a.res, defines, out)
@@ -198,6 +218,14 @@ def main():
             print(f"  {label:<24} {spread(t['render']):>18} {spread(sps, '{:.3f}'):>20} "
                   f"{spread(t['cpu']):>20} {spread(t['process']):>18} {ratio_r:>20} "
                   f"{ratio_c:>20} {ratio_p:>20}  {ms}")
+        st = [x for x in STAGES if x is not None]
+        if st:
+            names = list(st[0][0])
+            shares = ", ".join(f"{k} {statistics.median(x[0].get(k, 0.0) for x in st):.1f} %"
+                               for k in names)
+            rays, shadows, ns = (statistics.median(x[1][i] for x in st) for i in range(3))
+            print(f"  ophis's time by stage (median of {len(st)}): {shares}; per sample {rays:.2f} "
+                  f"rays and {shadows:.2f} shadow rays, {ns:.0f} ns per traced ray")
 
 
 if __name__ == "__main__":

@@ -297,3 +297,52 @@ fn merge_weights_seeds_by_samples_and_reduces_error() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `--stats` reports the wavefront stages' shares (summing to 100 %) and at least the camera
+/// ray per sample, changes nothing in the image, and says so when the scalar engine rendered.
+#[test]
+fn stats_report_the_wavefront_stages_and_leave_the_image_alone() {
+    let dir = temp("stats");
+    let render = |extra: &[&str], name: &str| {
+        let p = dir.join(name);
+        let err = ok(&ophis()
+            .arg("render")
+            .arg(reference())
+            .args(["-Dspp=4", "-q", "-o"])
+            .arg(&p)
+            .args(extra)
+            .output()
+            .unwrap());
+        (err, std::fs::read(&p).unwrap())
+    };
+    let (plain, image) = render(&[], "plain.exr");
+    assert!(!plain.contains("stats:"), "{plain}");
+    let (err, with_stats) = render(&["--stats"], "stats.exr");
+    assert!(image == with_stats, "--stats changed the image");
+    let shares = err
+        .lines()
+        .find(|l| l.starts_with("stats: wavefront stages"))
+        .unwrap_or_else(|| panic!("no stage line in: {err}"));
+    let names = ["refill", "trace", "group", "shade", "shadow rays", "retire"];
+    let sum: f64 = names
+        .iter()
+        .map(|n| {
+            let at = shares
+                .find(&format!(" {n} "))
+                .unwrap_or_else(|| panic!("{n}: {shares}"));
+            let rest = &shares[at + n.len() + 2..];
+            rest[..rest.find(' ').unwrap()].parse::<f64>().unwrap()
+        })
+        .sum();
+    assert!((sum - 100.0).abs() < 0.5, "shares sum to {sum}: {shares}");
+    let rays = err
+        .split("per sample ")
+        .nth(1)
+        .and_then(|r| r.split(' ').next())
+        .and_then(|r| r.parse::<f64>().ok())
+        .unwrap_or_else(|| panic!("no rays per sample in: {err}"));
+    assert!(rays >= 1.0, "{rays} rays per sample: {err}");
+    let (scalar, _) = render(&["--stats", "--engine", "scalar"], "scalar.exr");
+    assert!(scalar.contains("scalar engine"), "{scalar}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

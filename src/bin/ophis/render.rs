@@ -83,6 +83,11 @@ pub struct RenderArgs {
     /// No progress bar.
     #[arg(short, long)]
     quiet: bool,
+    /// After the render, print where the wavefront integrator's time went (refill, trace,
+    /// group, shade, shadow rays, retire: each one's share of the threads' time) and the rays
+    /// it traced per sample.
+    #[arg(long)]
+    stats: bool,
 }
 
 fn single_output(output: Option<&Path>) -> bool {
@@ -435,7 +440,9 @@ pub fn run(args: RenderArgs) -> Result<()> {
             .map(|s| (Duration::from_secs_f64(s), &save as &(dyn Fn(&Film) + Sync))),
         tile_order: tile_order(&args.tile_order, plan.info.seed),
     };
+    ophis::integrator::wave::stages::take();
     let stats = render_with(&scene, &mut film, 0, &opts, &ctl);
+    let stage_times = ophis::integrator::wave::stages::take();
     bar.finish_and_clear();
 
     let kept = film.total_weight() as u64;
@@ -487,6 +494,9 @@ pub fn run(args: RenderArgs) -> Result<()> {
     );
     if let Some(note) = adaptive_note(&film) {
         eprintln!("{note}");
+    }
+    if args.stats {
+        eprintln!("{}", stage_report(&stage_times, stats.samples));
     }
     let resume_hint = format!(
         "continue with: ophis render --resume {}",
@@ -577,4 +587,32 @@ fn aov_outputs(
         meta.push(("ophis.shapes".to_string(), legend.join(";")));
     }
     (extra, meta)
+}
+
+/// The `--stats` lines: each wavefront stage's share of the time, and rays per sample.
+fn stage_report(t: &ophis::integrator::wave::stages::StageTimes, samples: u64) -> String {
+    use ophis::integrator::wave::stages::Stage;
+    let total = t.total();
+    if t.rays == 0 || total <= 0.0 {
+        return "stats: the wavefront integrator did not render this scene (the scalar engine \
+                did: it keeps no stage times)"
+            .to_string();
+    }
+    let shares: Vec<String> = Stage::ALL
+        .iter()
+        .zip(&t.seconds)
+        .map(|(s, &x)| format!("{} {:.1} %", s.name(), 100.0 * x / total))
+        .collect();
+    let per_sample = |n: u64| n as f64 / samples.max(1) as f64;
+    format!(
+        "stats: wavefront stages, share of {:.2} thread s: {}\n\
+         stats: per sample {:.2} rays and {:.2} shadow rays; {:.0} ns per traced ray in trace, \
+         {:.0} ns per path vertex in all",
+        total,
+        shares.join(", "),
+        per_sample(t.rays),
+        per_sample(t.shadow_rays),
+        1e9 * t.seconds[Stage::Trace as usize] / t.rays as f64,
+        1e9 * total / t.rays as f64,
+    )
 }

@@ -22,6 +22,8 @@
 //! 5. **retires** the paths that ended, writing their XYZ value to their job's slot, and
 //!    fills each hole with the last live path.
 //!
+//! A stopwatch ([`stages`]) charges each step's time to it, for `ophis render --stats`.
+//!
 //! The lanes compute what the scalar code computes, operation for operation (see
 //! [`crate::simd`]), every path draws from its own sampler state in the scalar order, and each
 //! pixel's samples are summed in sample order at the end: a tile is bit-identical to the
@@ -63,6 +65,7 @@ mod lookup;
 mod nee;
 mod pool;
 pub mod program;
+pub mod stages;
 mod surface;
 mod vertex;
 
@@ -78,6 +81,7 @@ use crate::simd::Float;
 use crate::spectrum::SampledSpectrum;
 use pool::Pool;
 use program::Program;
+use stages::Stage;
 use vertex::Ctx;
 
 /// Whether the wavefront integrator can render `scene` (the `path` integrator, without AOVs).
@@ -189,6 +193,7 @@ fn run<F: Float>(
     let mut shadows = Shadows::new();
     let mut dead: Vec<u32> = Vec::with_capacity(POOL);
     let mut scratch = vertex::Scratch::new();
+    let mut clock = stages::Clock::new();
 
     loop {
         // 1. Refill.
@@ -197,6 +202,7 @@ fn run<F: Float>(
             break;
         }
         let n = pool.n;
+        clock.lap(Stage::Refill);
 
         // 2. Trace (and group the paths by what they hit).
         pool.rays_into(&mut rays);
@@ -219,17 +225,20 @@ fn run<F: Float>(
             }
         }
         let n = pool.n;
+        clock.lap(Stage::Trace);
         pool.group(&prog.shape_class);
         pool.spread_hits();
         if prog.big_meshes {
             surface::prefetch_meshes(&scene.shapes, &pool.hit[..n], true);
         }
+        clock.lap(Stage::Group);
 
         // 3. Shade.
         shadows.clear();
         for base in (0..n).step_by(F::LANES) {
             vertex::shade_chunk::<F>(&ctx, &mut pool, base, &mut shadows, &mut scratch);
         }
+        clock.lap(Stage::Shade);
 
         // 4. Shadow rays.
         shadows.blocked.clear();
@@ -250,6 +259,9 @@ fn run<F: Float>(
             }
         }
 
+        clock.lap(Stage::Shadow);
+        clock.count(rays.len(), shadows.rays.len());
+
         // 5. Retire and compact.
         dead.clear();
         dead.extend((0..n as u32).filter(|&i| pool.alive[i as usize] == 0));
@@ -257,6 +269,7 @@ fn run<F: Float>(
             ends::retire::<F>(&pool, chunk, &mut results);
         }
         pool.compact();
+        clock.lap(Stage::Retire);
     }
 
     // Per-pixel sums in sample order, as the scalar loop adds them.
