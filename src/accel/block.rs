@@ -309,11 +309,14 @@ impl RayLanes {
     pub fn new(ray: &Ray, sr: &ShearedRay) -> RayLanes {
         RayLanes {
             k: [sr.kx, sr.ky, sr.kz],
-            o: [
-                F4::splat(ray.o[sr.kx]),
-                F4::splat(ray.o[sr.ky]),
-                F4::splat(ray.o[sr.kz]),
-            ],
+            o: {
+                let o = ray.o.to_array();
+                [
+                    F4::splat(o[sr.kx]),
+                    F4::splat(o[sr.ky]),
+                    F4::splat(o[sr.kz]),
+                ]
+            },
             s: [F4::splat(sr.sx), F4::splat(sr.sy), F4::splat(sr.sz)],
         }
     }

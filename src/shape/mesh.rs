@@ -433,24 +433,19 @@ impl ShearedRay {
     #[inline]
     pub fn new(d: Vec3) -> Option<ShearedRay> {
         // Permute axes so that the dominant direction component is z (keeping handedness).
+        // Branch-free (a table and array indexing): for incoherent rays the dominant axis is
+        // unpredictable, and `Vec3`'s index is a `match`.
         let ad = d.abs();
-        let kz = if ad.x > ad.y {
-            if ad.x > ad.z {
-                0
-            } else {
-                2
-            }
-        } else if ad.y > ad.z {
-            1
-        } else {
-            2
-        };
-        let mut kx = (kz + 1) % 3;
-        let mut ky = (kx + 1) % 3;
-        if d[kz] < 0.0 {
-            std::mem::swap(&mut kx, &mut ky);
-        }
-        let dz = d[kz];
+        let a = d.to_array();
+        // kz by (x > y, x > z, y > z): x if it beats both, else y if it beats z, else z.
+        const KZ: [usize; 8] = [2, 2, 2, 0, 1, 2, 1, 0];
+        let key =
+            (ad.x > ad.y) as usize | ((ad.x > ad.z) as usize) << 1 | ((ad.y > ad.z) as usize) << 2;
+        let kz = KZ[key];
+        let kx0 = (kz + 1) % 3;
+        let ky0 = (kx0 + 1) % 3;
+        let (kx, ky) = if a[kz] < 0.0 { (ky0, kx0) } else { (kx0, ky0) };
+        let dz = a[kz];
         if dz == 0.0 {
             return None;
         }
@@ -458,8 +453,8 @@ impl ShearedRay {
             kx,
             ky,
             kz,
-            sx: d[kx] / dz,
-            sy: d[ky] / dz,
+            sx: a[kx] / dz,
+            sy: a[ky] / dz,
             sz: 1.0 / dz,
         })
     }
