@@ -99,6 +99,12 @@ impl Block {
     /// hit.
     #[inline(always)]
     fn test(&self, r: &RayLanes, t_max: f32, best: f32) -> Option<Lanes> {
+        let tri = self.triangles();
+        // An analytic primitive has a leaf of its own (see `build::split`): its block has
+        // nothing for the lanes to test.
+        if tri == 0 {
+            return None;
+        }
         let zero = F4::splat(0.0);
         let (a0, a1, a2) = self.relative(0, r);
         let (b0, b1, b2) = self.relative(1, r);
@@ -110,7 +116,6 @@ impl Block {
         let mut u = cx * by - cy * bx;
         let mut v = ax * cy - ay * cx;
         let mut w = bx * ay - by * ax;
-        let tri = self.triangles();
         let on_edge = (u.eq(zero) | v.eq(zero) | w.eq(zero)).bits() & tri;
         if on_edge != 0 {
             (u, v, w) = redo_edges(on_edge, [ax, ay, bx, by, cx, cy], [u, v, w]);
