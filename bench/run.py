@@ -79,8 +79,9 @@ def parse_stages(stderr):
                      r"traced ray", stderr)
     if line is None or rays is None:
         return None
-    shares = dict((k, float(v)) for k, v in re.findall(r"([a-z ]+) ([0-9.]+) %", line.split(": ", 2)[2]))
-    return {k.strip(): v for k, v in shares.items()}, tuple(float(x) for x in rays.groups())
+    listed = re.findall(r"([a-z ]+) ([0-9.]+) %", line.split(": ", 2)[2])
+    shares = {k.strip(): float(v) for k, v in listed}
+    return shares, tuple(float(x) for x in rays.groups())
 
 
 def mean_rgb_exr(path):

@@ -87,14 +87,15 @@ pub fn take() -> StageTimes {
 /// One tile's stopwatch: [`Clock::lap`] charges the time since the previous lap to a stage.
 pub(super) struct Clock {
     last: Instant,
-    nanos: [u64; 8],
+    /// Nanoseconds per stage, then rays, then shadow rays (as `TOTALS`).
+    sums: [u64; 8],
 }
 
 impl Clock {
     pub fn new() -> Clock {
         Clock {
             last: Instant::now(),
-            nanos: [0; 8],
+            sums: [0; 8],
         }
     }
 
@@ -102,22 +103,22 @@ impl Clock {
     #[inline]
     pub fn lap(&mut self, stage: Stage) {
         let now = Instant::now();
-        self.nanos[stage as usize] += now.duration_since(self.last).as_nanos() as u64;
+        self.sums[stage as usize] += now.duration_since(self.last).as_nanos() as u64;
         self.last = now;
     }
 
     /// Counts a round's traced rays and shadow rays.
     #[inline]
     pub fn count(&mut self, rays: usize, shadow_rays: usize) {
-        self.nanos[6] += rays as u64;
-        self.nanos[7] += shadow_rays as u64;
+        self.sums[6] += rays as u64;
+        self.sums[7] += shadow_rays as u64;
     }
 }
 
 impl Drop for Clock {
     /// Adds the tile's totals to the process's.
     fn drop(&mut self) {
-        for (t, &x) in TOTALS.iter().zip(&self.nanos) {
+        for (t, &x) in TOTALS.iter().zip(&self.sums) {
             t.fetch_add(x, Ordering::Relaxed);
         }
     }
