@@ -13,6 +13,9 @@ use crate::shape::{Hit, Shape, SurfaceInteraction};
 pub const BLOCK_WORDS: usize = 40;
 const _: () = assert!(std::mem::size_of::<Block>() == BLOCK_WORDS * 4);
 
+/// Shape tables up to this long are counted through rather than searched (see `Bvh::hit`).
+const SHORT_TABLE: usize = 64;
+
 /// A closest hit with the leaf slot it was found in (block and lane), where a triangle's
 /// corners are stored.
 #[derive(Clone, Copy, Debug)]
@@ -147,7 +150,16 @@ impl Bvh {
         let (shape, prim) = if f.id & ANALYTIC != 0 {
             (f.id & !ANALYTIC, 0)
         } else {
-            let s = self.first[..self.first.len() - 1].partition_point(|&x| x <= f.id) - 1;
+            // The shape is the last whose first triangle is at or before the id: the number of
+            // later shapes' firsts not beyond it (the table is sorted, and first[0] = 0). A
+            // short table is counted whole (vector compares, no branches), a long one
+            // searched.
+            let starts = &self.first[1..self.first.len() - 1];
+            let s = if starts.len() <= SHORT_TABLE {
+                starts.iter().map(|&x| (x <= f.id) as usize).sum()
+            } else {
+                starts.partition_point(|&x| x <= f.id)
+            };
             (s as u32, f.id - self.first[s])
         };
         Hit {
