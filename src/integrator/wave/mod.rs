@@ -123,6 +123,21 @@ impl Shadows {
     }
 }
 
+/// Sets `out` to the indices below `n` for which `pick` holds, in order. Without branches:
+/// which paths escaped or ended is as good as random, and a filter's mispredicted branch per
+/// path cost more than writing every index and advancing over the picked ones.
+#[inline(always)]
+fn select(out: &mut Vec<u32>, n: usize, pick: impl Fn(usize) -> bool) {
+    out.clear();
+    out.resize(n, 0);
+    let mut k = 0;
+    for i in 0..n {
+        out[k] = i as u32;
+        k += pick(i) as usize;
+    }
+    out.truncate(k);
+}
+
 /// Renders the samples `ranges` (a range of sample indices per pixel, row-major) of the tile
 /// with corner (x0, y0) and far corner (x1, y1) (exclusive); returns per-pixel sums (X, Y, Z,
 /// count, Y²), row-major.
@@ -215,8 +230,7 @@ fn run<F: Float>(
         // With nothing beyond the scene an escaped path ends with what it has: it leaves now,
         // so that the chunks shaded next hold only paths with work to do.
         if scene.infinite_lights.is_empty() {
-            dead.clear();
-            dead.extend((0..n as u32).filter(|&i| pool.hit[i as usize].is_none()));
+            select(&mut dead, n, |i| pool.hit[i].is_none());
             for chunk in dead.chunks(F::LANES) {
                 ends::retire::<F>(&pool, chunk, &mut results);
             }
@@ -263,8 +277,7 @@ fn run<F: Float>(
         clock.count(rays.len(), shadows.rays.len());
 
         // 5. Retire and compact.
-        dead.clear();
-        dead.extend((0..n as u32).filter(|&i| pool.alive[i as usize] == 0));
+        select(&mut dead, n, |i| pool.alive[i] == 0);
         for chunk in dead.chunks(F::LANES) {
             ends::retire::<F>(&pool, chunk, &mut results);
         }
