@@ -174,6 +174,54 @@ mod tests {
     }
 
     #[test]
+    fn removal_keeps_exactly_the_other_paths_each_whole() {
+        let mut rng = Pcg32::new(11, 3);
+        for (n, p_gone) in [
+            (POOL, 0.15),
+            (1000, 0.9),
+            (37, 0.5),
+            (5, 1.0),
+            (8, 0.0),
+            (0, 0.5),
+        ] {
+            for escaped in [false, true] {
+                let mut p = pool(n, n as u64 + 9);
+                let gone: Vec<u32> = (0..n as u32).filter(|_| rng.next_f32() < p_gone).collect();
+                let mut keep: Vec<u32> = (0..n)
+                    .filter(|i| !gone.contains(&(*i as u32)))
+                    .map(|i| p.job[i])
+                    .collect();
+                for i in 0..n {
+                    p.alive[i] = p.job[i] + 1;
+                    if !escaped {
+                        // Compaction leaves the hits behind (the next round traces anew).
+                        p.hit[i] = None;
+                    }
+                }
+                if escaped {
+                    p.remove_escaped(&gone);
+                } else {
+                    p.compact(&gone);
+                }
+                assert_eq!(p.n, keep.len());
+                for i in 0..p.n {
+                    assert!(consistent(&p, i), "a path was torn apart");
+                    // What each removal carries besides the path's columns came along too.
+                    if escaped {
+                        assert!(p.hit[i].is_none_or(|h| h.hit.prim == p.job[i]));
+                    } else {
+                        assert_eq!(p.alive[i], p.job[i] + 1);
+                    }
+                }
+                let mut got: Vec<u32> = p.job[..p.n].to_vec();
+                got.sort();
+                keep.sort();
+                assert_eq!(got, keep, "{n} paths, {} removed", gone.len());
+            }
+        }
+    }
+
+    #[test]
     fn grouping_moves_whole_paths_into_one_range_per_group() {
         // Shapes 0–5 in groups 3, 1, 1, 0, 8, 6; escaped rays are group 8 too.
         let class = [3u8, 1, 1, 0, 8, 6];

@@ -235,7 +235,7 @@ fn run<F: Float>(
                 ends::retire::<F>(&pool, chunk, &mut results);
             }
             if !dead.is_empty() {
-                pool.remove_escaped();
+                pool.remove_escaped(&dead);
             }
         }
         let n = pool.n;
@@ -281,7 +281,7 @@ fn run<F: Float>(
         for chunk in dead.chunks(F::LANES) {
             ends::retire::<F>(&pool, chunk, &mut results);
         }
-        pool.compact();
+        pool.compact(&dead);
         clock.lap(Stage::Retire);
     }
 

@@ -295,42 +295,38 @@ impl Pool {
         path_columns!(self, mv);
     }
 
-    /// Removes the paths for which `gone` holds, filling each hole with the last path (only
-    /// removed paths cost a move); `also` copies what [`Pool::move_path`] does not and the
-    /// next step needs.
-    fn remove(
-        &mut self,
-        gone: impl Fn(&Pool, usize) -> bool,
-        also: impl Fn(&mut Pool, usize, usize),
-    ) {
-        let mut i = 0;
-        while i < self.n {
-            if !gone(self, i) {
-                i += 1;
-                continue;
-            }
-            self.n -= 1;
-            let last = self.n;
-            if i != last {
-                self.move_path(last, i);
-                also(self, last, i);
+    /// Removes the paths at the indices `gone` (ascending), filling each hole with the last
+    /// live path (only removed paths cost a move, and no removed path is moved); `also` copies
+    /// what [`Pool::move_path`] does not and the next step needs. The caller has the list
+    /// already (it retired those paths): walking it instead of testing every path spares a
+    /// branch per path that goes either way at random.
+    fn remove(&mut self, gone: &[u32], also: impl Fn(&mut Pool, usize, usize)) {
+        debug_assert!(gone.windows(2).all(|w| w[0] < w[1]));
+        debug_assert!(gone.last().is_none_or(|&g| (g as usize) < self.n));
+        let (mut lo, mut hi) = (0, gone.len());
+        // Invariant: gone[lo..hi] are the removed paths still below `n`.
+        while lo < hi {
+            let last = self.n - 1;
+            self.n = last;
+            if gone[hi - 1] as usize == last {
+                hi -= 1;
+            } else {
+                let hole = gone[lo] as usize;
+                self.move_path(last, hole);
+                also(self, last, hole);
+                lo += 1;
             }
         }
     }
 
-    /// Removes the paths whose ray escaped (after tracing, before shading), their hits kept.
-    pub fn remove_escaped(&mut self) {
-        self.remove(
-            |p, i| p.hit[i].is_none(),
-            |p, from, to| p.hit[to] = p.hit[from],
-        );
+    /// Removes the paths whose ray escaped, `gone` (after tracing, before shading), their
+    /// hits kept.
+    pub fn remove_escaped(&mut self, gone: &[u32]) {
+        self.remove(gone, |p, from, to| p.hit[to] = p.hit[from]);
     }
 
-    /// Removes the paths whose `alive` is 0 (after shading).
-    pub fn compact(&mut self) {
-        self.remove(
-            |p, i| p.alive[i] == 0,
-            |p, from, to| p.alive[to] = p.alive[from],
-        );
+    /// Removes the paths that ended, `gone` (after shading).
+    pub fn compact(&mut self, gone: &[u32]) {
+        self.remove(gone, |p, from, to| p.alive[to] = p.alive[from]);
     }
 }
