@@ -72,6 +72,12 @@ impl Block {
         [0, 1, 2].map(|k| Vec3::new(self.p[k][0][lane], self.p[k][1][lane], self.p[k][2][lane]))
     }
 
+    /// Corner `k` of the triangle in lane `lane`, as x, y, z.
+    #[inline(always)]
+    pub fn corner(&self, k: usize, lane: usize) -> [f32; 3] {
+        [self.p[k][0][lane], self.p[k][1][lane], self.p[k][2][lane]]
+    }
+
     /// Lanes holding triangles, as bits: those whose id has the top bit clear.
     #[inline(always)]
     fn triangles(&self) -> u32 {

@@ -38,6 +38,8 @@ pub struct Bvh {
     depth: usize,
     bounds: Bounds3,
     isa: Isa,
+    /// Whether batches are traced in packets ([`super::packet`]) rather than ray by ray.
+    packets: bool,
 }
 
 impl Default for Bvh {
@@ -87,6 +89,9 @@ impl Bvh {
             depth: l.depth,
             bounds,
             isa: Isa::best(),
+            // OPHIS_PACKETS=0 traces batches ray by ray, for side-by-side measurements.
+            // OPHIS_PACKETS=0 traces batches ray by ray, for side-by-side measurements.
+            packets: std::env::var_os("OPHIS_PACKETS").is_none_or(|v| v != "0"),
         }
     }
 
@@ -134,6 +139,12 @@ impl Bvh {
             self.isa = isa;
         }
         self.isa == isa
+    }
+
+    /// Makes batch queries trace in packets (`true`, the default) or ray by ray; both give the
+    /// same answers.
+    pub fn set_packets(&mut self, on: bool) {
+        self.packets = on;
     }
 
     fn view(&self) -> View<'_> {
@@ -255,7 +266,11 @@ impl Bvh {
         let mut raw = [None; 64];
         for (rs, os) in rays.chunks(64).zip(out.chunks_mut(64)) {
             let raw = &mut raw[..rs.len()];
-            isa::closest_n(self.isa, self.view(), shapes, rs, raw);
+            if self.packets {
+                isa::closest_packets(self.isa, self.view(), shapes, rs, raw);
+            } else {
+                isa::closest_n(self.isa, self.view(), shapes, rs, raw);
+            }
             for ((o, r), ray) in os.iter_mut().zip(raw.iter()).zip(rs) {
                 *o = r.map(|r| f(r, ray));
             }
@@ -273,7 +288,11 @@ impl Bvh {
     /// Occlusion of a batch of rays: `blocked[i]` for `rays[i]`; see [`Bvh::intersect_n`].
     pub fn occluded_n(&self, shapes: &[Shape], rays: &[Ray], blocked: &mut [bool]) {
         assert_eq!(rays.len(), blocked.len());
-        isa::any_n(self.isa, self.view(), shapes, rays, blocked);
+        if self.packets {
+            isa::any_packets(self.isa, self.view(), shapes, rays, blocked);
+        } else {
+            isa::any_n(self.isa, self.view(), shapes, rays, blocked);
+        }
     }
 }
 

@@ -130,3 +130,51 @@ fn any_batch<V: Vec8>(v: View, shapes: &[Shape], rays: &[Ray], out: &mut [bool])
 
 variants!(closest_n, closest_batch, (v: View, shapes: &[Shape], rays: &[Ray], out: &mut [Option<Found>]) -> ());
 variants!(any_n, any_batch, (v: View, shapes: &[Shape], rays: &[Ray], out: &mut [bool]) -> ());
+
+/// Generates, for one packet traversal function of [`super::packet`], a dispatcher
+/// `$name(isa, ...)` that cuts the batch into packets of the lanes' width: sixteen rays with
+/// AVX-512, eight with AVX2; the baseline traces ray by ray (`$fallback`). The caller
+/// guarantees `isa.supported()`.
+macro_rules! packets {
+    ($name:ident, $($body:ident)::+, $fallback:ident, $out:ty) => {
+        #[inline]
+        pub fn $name(isa: Isa, v: View, shapes: &[Shape], rays: &[Ray], out: &mut [$out]) {
+            assert_eq!(rays.len(), out.len());
+            #[cfg(target_arch = "x86_64")]
+            {
+                use super::simd::Avx8;
+                use crate::simd::{F16, F8};
+                #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+                fn avx2(v: View, shapes: &[Shape], rays: &[Ray], out: &mut [$out]) {
+                    for (r, o) in rays.chunks(8).zip(out.chunks_mut(8)) {
+                        $($body)::+::<F8, Avx8>(v, shapes, r, o);
+                    }
+                }
+                #[target_feature(
+                    enable = "avx512f,avx512vl,avx512bw,avx512dq,avx2,fma,bmi1,bmi2,lzcnt,popcnt"
+                )]
+                fn avx512(v: View, shapes: &[Shape], rays: &[Ray], out: &mut [$out]) {
+                    for (r, o) in rays.chunks(16).zip(out.chunks_mut(16)) {
+                        $($body)::+::<F16, Avx8>(v, shapes, r, o);
+                    }
+                }
+                match isa {
+                    // SAFETY: `Bvh` only stores a supported `Isa` (checked in `set_isa` and
+                    // `Isa::best`).
+                    Isa::Avx512 => return unsafe { avx512(v, shapes, rays, out) },
+                    Isa::Avx2 => return unsafe { avx2(v, shapes, rays, out) },
+                    Isa::Baseline => {}
+                }
+            }
+            $fallback(Isa::Baseline, v, shapes, rays, out)
+        }
+    };
+}
+
+packets!(
+    closest_packets,
+    super::packet::closest,
+    closest_n,
+    Option<Found>
+);
+packets!(any_packets, super::packet::any, any_n, bool);

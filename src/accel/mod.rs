@@ -39,6 +39,7 @@ pub mod build;
 pub mod bvh;
 pub mod isa;
 pub mod layout;
+pub mod packet;
 mod pages;
 pub mod simd;
 pub mod traverse;

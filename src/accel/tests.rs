@@ -24,7 +24,7 @@ fn soup(rng: &mut Pcg32, n: usize, offset: Vec3) -> TriangleMesh {
     TriangleMesh::new(p, None, None, idx, &t, false, false).unwrap()
 }
 
-fn scene(seed: u64) -> Vec<Shape> {
+pub(super) fn scene(seed: u64) -> Vec<Shape> {
     let mut rng = Pcg32::new(seed, 0);
     let mut shapes = vec![
         Shape::Mesh(soup(&mut rng, 1500, Vec3::ZERO)),

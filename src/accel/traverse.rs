@@ -14,7 +14,7 @@ use super::block::{widen, Best, Block, RayLanes};
 use super::build::MEDIAN_DEPTH;
 use super::simd::{prefetch, Vec8};
 use super::wide::{leaf_range, Node8, EMPTY_CHILD, LEAF};
-use crate::math::{Ray, Vec2};
+use crate::math::{Ray, Vec2, Vec3};
 use crate::shape::mesh::ShearedRay;
 use crate::shape::Shape;
 use std::mem::MaybeUninit;
@@ -51,9 +51,9 @@ struct BoxRay<V> {
 }
 
 impl<V: Vec8> BoxRay<V> {
+    /// For `ray` with reciprocal direction `inv`.
     #[inline(always)]
-    fn new(ray: &Ray) -> BoxRay<V> {
-        let inv = ray.d.recip();
+    fn new(ray: &Ray, inv: Vec3) -> BoxRay<V> {
         BoxRay {
             o: [V::splat(ray.o.x), V::splat(ray.o.y), V::splat(ray.o.z)],
             inv_d: [V::splat(inv.x), V::splat(inv.y), V::splat(inv.z)],
@@ -92,8 +92,22 @@ fn closest_below<V: Vec8>(
     closest: &mut Best,
 ) -> Option<Found> {
     let sr = ShearedRay::new(ray.d)?;
-    let lanes = RayLanes::new(ray, &sr);
-    let br = BoxRay::<V>::new(ray);
+    closest_from::<V>(v, shapes, ray, &sr, ray.d.recip(), start, closest)
+}
+
+/// [`closest_below`] with the ray's shear `sr` and reciprocal direction `inv` given.
+#[inline(always)]
+pub(super) fn closest_from<V: Vec8>(
+    v: View,
+    shapes: &[Shape],
+    ray: &Ray,
+    sr: &ShearedRay,
+    inv: Vec3,
+    start: u32,
+    closest: &mut Best,
+) -> Option<Found> {
+    let lanes = RayLanes::new(ray, sr);
+    let br = BoxRay::<V>::new(ray, inv);
     // `r` carries the closest hit so far as its extent, for the box tests.
     let mut r = *ray;
     r.t_max = closest.t;
@@ -182,8 +196,21 @@ fn any_below<V: Vec8>(v: View, shapes: &[Shape], ray: &Ray, start: u32) -> bool 
     let Some(sr) = ShearedRay::new(ray.d) else {
         return false;
     };
-    let lanes = RayLanes::new(ray, &sr);
-    let br = BoxRay::<V>::new(ray);
+    any_from::<V>(v, shapes, ray, &sr, ray.d.recip(), start)
+}
+
+/// [`any_below`] with the ray's shear `sr` and reciprocal direction `inv` given.
+#[inline(always)]
+pub(super) fn any_from<V: Vec8>(
+    v: View,
+    shapes: &[Shape],
+    ray: &Ray,
+    sr: &ShearedRay,
+    inv: Vec3,
+    start: u32,
+) -> bool {
+    let lanes = RayLanes::new(ray, sr);
+    let br = BoxRay::<V>::new(ray, inv);
     let mut stack = [const { MaybeUninit::<u32>::uninit() }; STACK];
     let mut sp = 0usize;
     let mut cur = start;

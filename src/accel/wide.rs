@@ -70,6 +70,15 @@ impl Node8 {
         (v(&self.lo), v(&self.hi))
     }
 
+    /// Bounds of lane `lane` as arrays (low corner, high corner).
+    #[inline(always)]
+    pub fn corners(&self, lane: usize) -> ([f32; 3], [f32; 3]) {
+        (
+            [self.lo[0][lane], self.lo[1][lane], self.lo[2][lane]],
+            [self.hi[0][lane], self.hi[1][lane], self.hi[2][lane]],
+        )
+    }
+
     /// Entry distances of the eight boxes and the bit mask of the children the ray overlaps in
     /// [0, t_max]. `o` and `inv_d` are the ray origin and reciprocal direction, splatted.
     #[inline(always)]

@@ -143,8 +143,9 @@ impl Sphere {
         self.intersect_exact(ray)
     }
 
-    /// [`Sphere::intersect`] without its pre-test: the root of the quadratic in f64.
-    fn intersect_exact(&self, ray: &Ray) -> Option<(f32, Vec2)> {
+    /// [`Sphere::intersect`] without its pre-test: the root of the quadratic in f64. (Any
+    /// conservative pre-test gives the same answers: it only drops rays this misses.)
+    pub(crate) fn intersect_exact(&self, ray: &Ray) -> Option<(f32, Vec2)> {
         let f = ray.o.as_dvec3() - self.center.as_dvec3();
         let d = ray.d.as_dvec3();
         let r = self.radius as f64;
