@@ -330,13 +330,17 @@ fn redo_edges(on_edge: u32, a: &mut [[f32; MAX_LANES]; 9]) {
     }
 }
 
-/// The closest hits of the packet so far: parameter and lane id as vectors for the tests,
-/// the rest per lane.
+/// The closest hits of the packet so far, in lanes: [`NO_HIT`] (flipped) where none.
 struct Closest<F: Float> {
     t: F,
     /// Lane ids with the top bit flipped, so that a signed compare orders them as unsigned.
     id: F::I,
-    found: [Option<Found>; MAX_LANES],
+    /// Hit coordinates.
+    u: F,
+    v: F,
+    /// Where the primitive's slot is: block index and lane.
+    block: F::I,
+    slot: F::I,
 }
 
 /// Flips the top bit: signed order of the result is unsigned order of `id`.
@@ -361,7 +365,32 @@ impl<F: Float> Closest<F> {
         let m = F::M::from_bits(1 << i);
         self.t = F::select(m, F::splat(f.t), self.t);
         self.id = F::I::select(m, F::I::splat(ordered(f.id)), self.id);
-        self.found[i] = Some(f);
+        self.u = F::select(m, F::splat(f.uv.x), self.u);
+        self.v = F::select(m, F::splat(f.uv.y), self.v);
+        self.block = F::I::select(m, F::I::splat(f.block as i32), self.block);
+        self.slot = F::I::select(m, F::I::splat(f.lane as i32), self.slot);
+    }
+
+    /// The hits found, lane by lane, into `out`.
+    #[inline(always)]
+    fn write(&self, out: &mut [Option<Found>]) {
+        let mut a = [[0u32; MAX_LANES]; 6];
+        self.t.to_bits().store(&mut a[0][..]);
+        self.id.store(&mut a[1][..]);
+        self.u.to_bits().store(&mut a[2][..]);
+        self.v.to_bits().store(&mut a[3][..]);
+        self.block.store(&mut a[4][..]);
+        self.slot.store(&mut a[5][..]);
+        for (i, o) in out.iter_mut().enumerate() {
+            let id = a[1][i] ^ (1 << 31);
+            *o = (id != NO_HIT).then(|| Found {
+                id,
+                t: f32::from_bits(a[0][i]),
+                uv: Vec2::new(f32::from_bits(a[2][i]), f32::from_bits(a[3][i])),
+                block: a[4][i],
+                lane: a[5][i],
+            });
+        }
     }
 
     /// Leaf `leaf` for the lanes of `active`.
@@ -391,18 +420,10 @@ impl<F: Float> Closest<F> {
                 let m = F::M::from_bits(take);
                 self.t = F::select(m, t, self.t);
                 self.id = F::I::select(m, idl, self.id);
-                let mut bits = take;
-                while bits != 0 {
-                    let i = bits.trailing_zeros() as usize;
-                    bits &= bits - 1;
-                    self.found[i] = Some(Found {
-                        id,
-                        t: t.lane(i),
-                        uv: Vec2::new(b1.lane(i), b2.lane(i)),
-                        block,
-                        lane: slot as u32,
-                    });
-                }
+                self.u = F::select(m, b1, self.u);
+                self.v = F::select(m, b2, self.v);
+                self.block = F::I::select(m, F::I::splat(block as i32), self.block);
+                self.slot = F::I::select(m, F::I::splat(slot as i32), self.slot);
             }
         }
     }
@@ -480,12 +501,15 @@ pub fn closest<F: Float, V: Vec8>(
     let mut c = Closest::<F> {
         t: p.t_max,
         id: F::I::splat(ordered(NO_HIT)),
-        found: [None; MAX_LANES],
+        u: F::splat(0.0),
+        v: F::splat(0.0),
+        block: F::I::splat(0),
+        slot: F::I::splat(0),
     };
     if v.root != super::wide::EMPTY_CHILD && p.valid != 0 {
         walk::<F, V>(v, shapes, &p, &mut c);
     }
-    out.copy_from_slice(&c.found[..rays.len()]);
+    c.write(out);
 }
 
 #[inline(always)]
