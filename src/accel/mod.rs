@@ -26,9 +26,15 @@
 //! the same primitive, parameter and coordinates. The code uses the portable lanes of [`simd`] and is compiled per
 //! instruction set ([`isa`]: AVX-512, AVX2, baseline), chosen at run time.
 //!
+//! **Packets** ([`packet`]). Batches are traced sixteen rays at a time (eight with AVX2), one
+//! per SIMD lane: each child box and each leaf primitive is tested against all the packet's
+//! rays at once, and where a subtree is entered by few of them each goes on alone with the
+//! single-ray loops above. Same hits, bit for bit.
+//!
 //! **Queries**: [`Bvh::intersect`](Accel::intersect) and [`Bvh::occluded`](Accel::occluded)
-//! for one ray, [`Bvh::intersect_n`] / [`Bvh::occluded_n`] for a batch. [`BruteForce`] tests
-//! every primitive and is the oracle in tests.
+//! for one ray, [`Bvh::intersect_n`] / [`Bvh::occluded_n`] for a batch (in packets, or ray by
+//! ray with [`Bvh::set_packets`] or `OPHIS_PACKETS=0`). [`BruteForce`] tests every primitive
+//! and is the oracle in tests.
 use crate::math::Ray;
 use crate::shape::{Hit, Shape};
 
