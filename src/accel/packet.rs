@@ -530,39 +530,45 @@ fn walk<F: Float, V: Vec8>(v: View, shapes: &[Shape], p: &Lanes<F>, c: &mut Clos
             c.leaf(v, shapes, p, cur, active);
         } else {
             let node = &v.nodes[cur as usize];
-            // The children entered, sorted far first by the entry of their first ray.
-            let mut hit = [(0u64, 0u32, F::splat(0.0)); 8];
+            // The children entered, sorted far first by the entry of their first ray (keys
+            // of entry bits and child lane; the entries' lanes stay where they were stored).
+            let mut near = [[0.0f32; MAX_LANES]; 8];
+            let mut rays = [0u32; 8];
+            let mut keys = [0u64; 8];
             let mut n = 0;
             for lane in 0..8 {
-                let child = node.child[lane];
-                if child == super::wide::EMPTY_CHILD {
+                if node.child[lane] == super::wide::EMPTY_CHILD {
                     continue;
                 }
                 let (lo, hi) = node.corners(lane);
-                let (near, rays) = p.enter(lo, hi, c.t, active);
-                if rays == 0 {
+                let (t, m) = p.enter(lo, hi, c.t, active);
+                if m == 0 {
                     continue;
                 }
-                let key = ((near.lane(rays.trailing_zeros() as usize).to_bits() as u64) << 32)
-                    | child as u64;
+                t.store(&mut near[lane][..]);
+                rays[lane] = m;
+                let key = ((near[lane][m.trailing_zeros() as usize].to_bits() as u64) << 32)
+                    | lane as u64;
                 let mut j = n;
-                while j > 0 && hit[j - 1].0 < key {
-                    hit[j] = hit[j - 1];
+                while j > 0 && keys[j - 1] < key {
+                    keys[j] = keys[j - 1];
                     j -= 1;
                 }
-                hit[j] = (key, rays, near);
+                keys[j] = key;
                 n += 1;
             }
             if n > 0 {
-                for &(key, rays, near) in &hit[..n - 1] {
+                for &key in &keys[..n - 1] {
+                    let lane = (key & 7) as usize;
                     stack[sp].write(Entry {
-                        node: key as u32,
-                        rays,
-                        near,
+                        node: node.child[lane],
+                        rays: rays[lane],
+                        near: F::load(&near[lane]),
                     });
                     sp += 1;
                 }
-                (cur, active) = (hit[n - 1].0 as u32, hit[n - 1].1);
+                let lane = (keys[n - 1] & 7) as usize;
+                (cur, active) = (node.child[lane], rays[lane]);
                 continue;
             }
         }
