@@ -14,7 +14,33 @@ pub const BLOCK_WORDS: usize = 40;
 const _: () = assert!(std::mem::size_of::<Block>() == BLOCK_WORDS * 4);
 
 /// Shape tables up to this long are counted through rather than searched (see `Bvh::hit`).
-const SHORT_TABLE: usize = 64;
+pub(super) const SHORT_TABLE: usize = 64;
+
+/// The [`Hit`] for a traversal's result; `first` is [`Bvh`]'s table of first triangle ids.
+#[inline]
+pub(super) fn hit(first: &[u32], f: Found) -> Hit {
+    let (shape, prim) = if f.id & ANALYTIC != 0 {
+        (f.id & !ANALYTIC, 0)
+    } else {
+        // The shape is the last whose first triangle is at or before the id: the number of
+        // later shapes' firsts not beyond it (the table is sorted, and first[0] = 0). A
+        // short table is counted whole (vector compares, no branches), a long one
+        // searched.
+        let starts = &first[1..first.len() - 1];
+        let s = if starts.len() <= SHORT_TABLE {
+            starts.iter().map(|&x| (x <= f.id) as usize).sum()
+        } else {
+            starts.partition_point(|&x| x <= f.id)
+        };
+        (s as u32, f.id - first[s])
+    };
+    Hit {
+        t: f.t,
+        shape,
+        prim,
+        uv: f.uv,
+    }
+}
 
 /// A closest hit with the leaf slot it was found in (block and lane), where a triangle's
 /// corners are stored.
@@ -152,33 +178,14 @@ impl Bvh {
             nodes: &self.nodes,
             blocks: &self.blocks,
             root: self.root,
+            first: &self.first,
         }
     }
 
     /// The [`Hit`] for a traversal's result.
     #[inline]
     fn hit(&self, f: Found) -> Hit {
-        let (shape, prim) = if f.id & ANALYTIC != 0 {
-            (f.id & !ANALYTIC, 0)
-        } else {
-            // The shape is the last whose first triangle is at or before the id: the number of
-            // later shapes' firsts not beyond it (the table is sorted, and first[0] = 0). A
-            // short table is counted whole (vector compares, no branches), a long one
-            // searched.
-            let starts = &self.first[1..self.first.len() - 1];
-            let s = if starts.len() <= SHORT_TABLE {
-                starts.iter().map(|&x| (x <= f.id) as usize).sum()
-            } else {
-                starts.partition_point(|&x| x <= f.id)
-            };
-            (s as u32, f.id - self.first[s])
-        };
-        Hit {
-            t: f.t,
-            shape,
-            prim,
-            uv: f.uv,
-        }
+        hit(&self.first, f)
     }
 
     /// The closest hit and its surface geometry: the same as [`Accel::intersect`] followed by
@@ -198,6 +205,11 @@ impl Bvh {
     /// Closest hits of a batch of rays, as the traversal found them (with the leaf slot of a
     /// triangle, see [`RawHit`]); `out[i]` for `rays[i]`.
     pub fn intersect_raw_n(&self, shapes: &[Shape], rays: &[Ray], out: &mut [Option<RawHit>]) {
+        if self.packets {
+            assert_eq!(rays.len(), out.len());
+            isa::closest_packets_raw(self.isa, self.view(), shapes, rays, out);
+            return;
+        }
         self.closest_map(shapes, rays, out, |f, _| RawHit {
             hit: self.hit(f),
             block: f.block,

@@ -178,3 +178,31 @@ packets!(
     Option<Found>
 );
 packets!(any_packets, super::packet::any, any_n, bool);
+packets!(
+    closest_packets_raw,
+    super::packet::closest_raw,
+    closest_raw_n,
+    Option<super::RawHit>
+);
+
+/// The baseline of [`closest_packets_raw`]: ray by ray, each hit named by [`super::bvh::hit`].
+fn closest_raw_n(
+    isa: Isa,
+    v: View,
+    shapes: &[Shape],
+    rays: &[Ray],
+    out: &mut [Option<super::RawHit>],
+) {
+    let mut raw = [None; 64];
+    for (rs, os) in rays.chunks(64).zip(out.chunks_mut(64)) {
+        let raw = &mut raw[..rs.len()];
+        closest_n(isa, v, shapes, rs, raw);
+        for (o, r) in os.iter_mut().zip(raw.iter()) {
+            *o = r.map(|f| super::RawHit {
+                hit: super::bvh::hit(v.first, f),
+                block: f.block,
+                lane: f.lane,
+            });
+        }
+    }
+}

@@ -37,12 +37,14 @@
 //! Everything here is `#[inline(always)]`, compiled per instruction set by [`super::isa`]
 //! (no closures: a closure is compiled without the caller's instruction set).
 use super::block::{widen, Best, Block, ANALYTIC, EMPTY, NO_HIT};
+use super::bvh::SHORT_TABLE;
 use super::simd::Vec8;
 use super::traverse::{self, Found, View, STACK};
 use super::wide::{leaf_range, LEAF};
+use super::RawHit;
 use crate::math::{Ray, Vec2, Vec3};
 use crate::shape::mesh::{edge_f64, gamma, ShearedRay};
-use crate::shape::Shape;
+use crate::shape::{Hit, Shape};
 use crate::simd::{Float, Int, Mask};
 use std::mem::MaybeUninit;
 
@@ -371,6 +373,60 @@ impl<F: Float> Closest<F> {
         self.slot = F::I::select(m, F::I::splat(f.lane as i32), self.slot);
     }
 
+    /// The hits found, lane by lane, into `out`, each with its shape and triangle named from
+    /// `first` ([`super::bvh::hit`], in lanes where the table is short).
+    #[inline(always)]
+    fn write_raw(&self, first: &[u32], out: &mut [Option<RawHit>]) {
+        let starts = &first[1..first.len() - 1];
+        if starts.len() > SHORT_TABLE {
+            let mut found = [None; MAX_LANES];
+            self.write(&mut found[..out.len()]);
+            for (o, f) in out.iter_mut().zip(found) {
+                *o = f.map(|f| RawHit {
+                    hit: super::bvh::hit(first, f),
+                    block: f.block,
+                    lane: f.lane,
+                });
+            }
+            return;
+        }
+        // Triangles: the shape is the number of later shapes' first ids not beyond the id,
+        // and the triangle the id less the last such first id (`first[0]` is 0).
+        let id = self.id ^ F::I::splat(i32::MIN);
+        let mut shape = F::I::splat(0);
+        let mut base = F::I::splat(0);
+        for &x in starts {
+            // Triangle ids are below 2³¹, so a signed compare orders them.
+            let m = !id.lt(F::I::splat(x as i32));
+            shape = shape + F::I::select(m, F::I::splat(1), F::I::splat(0));
+            base = F::I::select(m, F::I::splat(x as i32), base);
+        }
+        let triangle = !id.lt(F::I::splat(0));
+        let shape = F::I::select(triangle, shape, id & F::I::splat(!(ANALYTIC as i32)));
+        let prim = F::I::select(triangle, id - base, F::I::splat(0));
+        let mut a = [[0u32; MAX_LANES]; 8];
+        self.t.to_bits().store(&mut a[0][..]);
+        id.store(&mut a[1][..]);
+        self.u.to_bits().store(&mut a[2][..]);
+        self.v.to_bits().store(&mut a[3][..]);
+        self.block.store(&mut a[4][..]);
+        self.slot.store(&mut a[5][..]);
+        shape.store(&mut a[6][..]);
+        prim.store(&mut a[7][..]);
+        for (i, o) in out.iter_mut().enumerate() {
+            *o = (a[1][i] != NO_HIT).then(|| RawHit {
+                hit: Hit {
+                    t: f32::from_bits(a[0][i]),
+                    shape: a[6][i],
+                    prim: a[7][i],
+                    uv: Vec2::new(f32::from_bits(a[2][i]), f32::from_bits(a[3][i])),
+                },
+                block: a[4][i],
+                lane: a[5][i],
+            });
+        }
+    }
+
     /// The hits found, lane by lane, into `out`.
     #[inline(always)]
     fn write(&self, out: &mut [Option<Found>]) {
@@ -488,15 +544,21 @@ struct Entry<F> {
     near: F,
 }
 
-/// The closest hits of `rays` (at most `F::LANES`): `out[i]` for `rays[i]`, the same as
-/// [`traverse::closest`] gives ray by ray.
+/// [`closest`] with each hit's shape and triangle named, as [`super::Bvh::intersect_raw_n`]
+/// gives them.
 #[inline(always)]
-pub fn closest<F: Float, V: Vec8>(
+pub fn closest_raw<F: Float, V: Vec8>(
     v: View,
     shapes: &[Shape],
     rays: &[Ray],
-    out: &mut [Option<Found>],
+    out: &mut [Option<RawHit>],
 ) {
+    search::<F, V>(v, shapes, rays).write_raw(v.first, out);
+}
+
+/// The closest hits of `rays` in lanes.
+#[inline(always)]
+fn search<F: Float, V: Vec8>(v: View, shapes: &[Shape], rays: &[Ray]) -> Closest<F> {
     let p = Lanes::<F>::new(rays);
     let mut c = Closest::<F> {
         t: p.t_max,
@@ -509,7 +571,19 @@ pub fn closest<F: Float, V: Vec8>(
     if v.root != super::wide::EMPTY_CHILD && p.valid != 0 {
         walk::<F, V>(v, shapes, &p, &mut c);
     }
-    c.write(out);
+    c
+}
+
+/// The closest hits of `rays` (at most `F::LANES`): `out[i]` for `rays[i]`, the same as
+/// [`traverse::closest`] gives ray by ray.
+#[inline(always)]
+pub fn closest<F: Float, V: Vec8>(
+    v: View,
+    shapes: &[Shape],
+    rays: &[Ray],
+    out: &mut [Option<Found>],
+) {
+    search::<F, V>(v, shapes, rays).write(out);
 }
 
 #[inline(always)]

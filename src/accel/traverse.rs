@@ -29,6 +29,9 @@ pub struct View<'a> {
     pub nodes: &'a [Node8],
     pub blocks: &'a [Block],
     pub root: u32,
+    /// Global id of each shape's first triangle and the total at the end (see
+    /// [`super::Bvh`]), to name the shape and triangle of a hit.
+    pub first: &'a [u32],
 }
 
 impl View<'_> {
