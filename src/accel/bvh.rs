@@ -3,6 +3,7 @@ use super::block::{Block, ANALYTIC};
 use super::build;
 use super::isa::{self, Isa};
 use super::layout::layout;
+use super::packet::RayColumns;
 use super::traverse::{Found, View, STACK};
 use super::wide::Node8;
 use super::Accel;
@@ -215,6 +216,23 @@ impl Bvh {
             block: f.block,
             lane: f.lane,
         });
+    }
+
+    /// [`Bvh::intersect_raw_n`] for rays given as columns: `out[i]` for ray `i` (`out` is
+    /// `rays.n` long). Packets load the columns directly, without a [`Ray`] per ray.
+    pub fn intersect_raw_columns(
+        &self,
+        shapes: &[Shape],
+        rays: &RayColumns,
+        out: &mut [Option<RawHit>],
+    ) {
+        assert_eq!(rays.n, out.len());
+        if self.packets {
+            isa::closest_columns_raw(self.isa, self.view(), shapes, rays, out);
+        } else {
+            let all: Vec<Ray> = (0..rays.n).map(|i| rays.ray(i)).collect();
+            self.intersect_raw_n(shapes, &all, out);
+        }
     }
 
     /// The surface geometry of a hit found by [`Bvh::intersect_raw_n`] for `ray`.

@@ -206,3 +206,46 @@ fn closest_raw_n(
         }
     }
 }
+
+/// Closest hits of the rays of `rays` in packets, each named, into `out` (`rays.n` long): the
+/// columns' form of [`closest_packets_raw`], whose packets load the columns directly. The
+/// caller guarantees `isa.supported()`.
+pub fn closest_columns_raw(
+    isa: Isa,
+    v: View,
+    shapes: &[Shape],
+    rays: &super::packet::RayColumns,
+    out: &mut [Option<super::RawHit>],
+) {
+    assert_eq!(rays.n, out.len());
+    #[cfg(target_arch = "x86_64")]
+    {
+        use super::packet::{closest_raw_columns, RayColumns};
+        use super::simd::Avx8;
+        use super::RawHit;
+        use crate::simd::{F16, F8};
+        #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+        fn avx2(v: View, shapes: &[Shape], rays: &RayColumns, out: &mut [Option<RawHit>]) {
+            for (k, o) in out.chunks_mut(8).enumerate() {
+                closest_raw_columns::<F8, Avx8>(v, shapes, rays, 8 * k, o);
+            }
+        }
+        #[target_feature(
+            enable = "avx512f,avx512vl,avx512bw,avx512dq,avx2,fma,bmi1,bmi2,lzcnt,popcnt"
+        )]
+        fn avx512(v: View, shapes: &[Shape], rays: &RayColumns, out: &mut [Option<RawHit>]) {
+            for (k, o) in out.chunks_mut(16).enumerate() {
+                closest_raw_columns::<F16, Avx8>(v, shapes, rays, 16 * k, o);
+            }
+        }
+        match isa {
+            // SAFETY: `Bvh` only stores a supported `Isa` (checked in `set_isa` and
+            // `Isa::best`).
+            Isa::Avx512 => return unsafe { avx512(v, shapes, rays, out) },
+            Isa::Avx2 => return unsafe { avx2(v, shapes, rays, out) },
+            Isa::Baseline => {}
+        }
+    }
+    let all: Vec<Ray> = (0..rays.n).map(|i| rays.ray(i)).collect();
+    closest_raw_n(isa, v, shapes, &all, out);
+}

@@ -54,6 +54,7 @@ pub mod wide;
 pub use brute::BruteForce;
 pub use bvh::{Bvh, RawHit, BLOCK_WORDS};
 pub use isa::Isa;
+pub use packet::RayColumns;
 
 /// A structure answering ray queries against a shape list.
 pub trait Accel {

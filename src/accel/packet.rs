@@ -97,9 +97,32 @@ fn either<M: Mask>(n: M, a: M, b: M) -> M {
     (n & a) | (!n & b)
 }
 
+/// A batch of rays as columns (structure of arrays): `o[axis][i]`, `d[axis][i]` and
+/// `t_max[i]` for ray `i < n`, as the wavefront keeps its paths.
+#[derive(Clone, Copy)]
+pub struct RayColumns<'a> {
+    pub o: [&'a [f32]; 3],
+    pub d: [&'a [f32]; 3],
+    pub t_max: &'a [f32],
+    pub n: usize,
+}
+
+impl RayColumns<'_> {
+    /// Ray `i`.
+    #[inline]
+    pub fn ray(&self, i: usize) -> Ray {
+        Ray {
+            o: Vec3::new(self.o[0][i], self.o[1][i], self.o[2][i]),
+            d: Vec3::new(self.d[0][i], self.d[1][i], self.d[2][i]),
+            t_max: self.t_max[i],
+        }
+    }
+}
+
 /// The rays of a packet in lanes, with the per-ray constants of the box and triangle tests.
-struct Lanes<'a, F: Float> {
-    rays: &'a [Ray],
+struct Lanes<F: Float> {
+    /// Rows: origin x, y, z, extent, direction x, y, z, per lane (for rays that go on alone).
+    row: [[f32; MAX_LANES]; 7],
     /// Lanes holding a ray that can hit anything (a nonzero direction).
     valid: u32,
     o: [F; 3],
@@ -115,13 +138,12 @@ struct Lanes<'a, F: Float> {
     inv_lanes: [[f32; MAX_LANES]; 3],
 }
 
-impl<'a, F: Float> Lanes<'a, F> {
-    /// The packet of `rays`; the shear is [`ShearedRay::new`]'s, computed in lanes.
+impl<F: Float> Lanes<F> {
+    /// The packet of `rays`.
     #[inline(always)]
-    fn new(rays: &'a [Ray]) -> Lanes<'a, F> {
+    fn new(rays: &[Ray]) -> Lanes<F> {
         debug_assert!(rays.len() <= F::LANES && F::LANES <= MAX_LANES);
-        // Rows: origin x, y, z, extent, direction x, y, z (zero in lanes without a ray, which
-        // makes them invalid).
+        // Zero in lanes without a ray (a zero direction makes them invalid).
         let mut a = [[0.0f32; MAX_LANES]; 7];
         for (i, r) in rays.iter().enumerate() {
             a[0][i] = r.o.x;
@@ -132,6 +154,30 @@ impl<'a, F: Float> Lanes<'a, F> {
             a[5][i] = r.d.y;
             a[6][i] = r.d.z;
         }
+        Lanes::from_rows(a, rays.len())
+    }
+
+    /// The packet of rays `base .. base + count` of `c` (`count` at most `F::LANES`).
+    #[inline(always)]
+    fn from_columns(c: &RayColumns, base: usize, count: usize) -> Lanes<F> {
+        debug_assert!(count <= F::LANES && base + count <= c.n);
+        let cols = [c.o[0], c.o[1], c.o[2], c.t_max, c.d[0], c.d[1], c.d[2]];
+        let mut a = [[0.0f32; MAX_LANES]; 7];
+        for (row, col) in a.iter_mut().zip(cols) {
+            if base + F::LANES <= col.len() {
+                F::load_at(col, base).store(&mut row[..]);
+                row[count..].fill(0.0);
+            } else {
+                row[..count].copy_from_slice(&col[base..base + count]);
+            }
+        }
+        Lanes::from_rows(a, count)
+    }
+
+    /// The packet of the rays in the rows `a` (lanes `count..` zero); the shear is
+    /// [`ShearedRay::new`]'s, computed in lanes.
+    #[inline(always)]
+    fn from_rows(a: [[f32; MAX_LANES]; 7], count: usize) -> Lanes<F> {
         let zero = F::splat(0.0);
         let one = F::splat(1.0);
         let d = [F::load(&a[4]), F::load(&a[5]), F::load(&a[6])];
@@ -153,7 +199,7 @@ impl<'a, F: Float> Lanes<'a, F> {
             x: either(neg, kz2, kz1),
             y: either(neg, kz0, kz2),
         };
-        let valid = (!dz.eq(zero)).bits() & ((1u32 << rays.len()) - 1);
+        let valid = (!dz.eq(zero)).bits() & ((1u32 << count) - 1);
         let s = [
             kx.pick(d[0], d[1], d[2]) / dz,
             ky.pick(d[0], d[1], d[2]) / dz,
@@ -168,7 +214,7 @@ impl<'a, F: Float> Lanes<'a, F> {
             inv_d[a].store(&mut inv_lanes[a][..]);
         }
         Lanes {
-            rays,
+            row: a,
             valid,
             o: [F::load(&a[0]), F::load(&a[1]), F::load(&a[2])],
             d,
@@ -206,6 +252,17 @@ impl<'a, F: Float> Lanes<'a, F> {
         let r2 = s.radius * s.radius;
         let outside = ll.gt(F::splat(r2 * 1.001) + F::splat(1e-5) * ff);
         active & !outside.bits()
+    }
+
+    /// Lane `i`'s ray.
+    #[inline(always)]
+    fn ray(&self, i: usize) -> Ray {
+        let a = &self.row;
+        Ray {
+            o: Vec3::new(a[0][i], a[1][i], a[2][i]),
+            d: Vec3::new(a[4][i], a[5][i], a[6][i]),
+            t_max: a[3][i],
+        }
     }
 
     /// Lane `i`'s shear and reciprocal direction, for [`traverse`]'s single-ray loops.
@@ -500,7 +557,7 @@ impl<F: Float> Closest<F> {
         while bits != 0 {
             let i = bits.trailing_zeros() as usize;
             bits &= bits - 1;
-            if let Some((t, uv)) = decide(shape, &p.rays[i]) {
+            if let Some((t, uv)) = decide(shape, &p.ray(i)) {
                 let mut best = self.best(i);
                 if best.takes(t, id) {
                     self.set(
@@ -528,7 +585,7 @@ impl<F: Float> Closest<F> {
             let mut best = self.best(i);
             let (sr, inv) = p.single(i);
             if let Some(f) =
-                traverse::closest_from::<V>(v, shapes, &p.rays[i], &sr, inv, node, &mut best)
+                traverse::closest_from::<V>(v, shapes, &p.ray(i), &sr, inv, node, &mut best)
             {
                 self.set(i, f);
             }
@@ -553,13 +610,25 @@ pub fn closest_raw<F: Float, V: Vec8>(
     rays: &[Ray],
     out: &mut [Option<RawHit>],
 ) {
-    search::<F, V>(v, shapes, rays).write_raw(v.first, out);
+    search::<F, V>(v, shapes, &Lanes::new(rays)).write_raw(v.first, out);
+}
+
+/// [`closest_raw`] for the rays `base .. base + out.len()` of `rays`.
+#[inline(always)]
+pub fn closest_raw_columns<F: Float, V: Vec8>(
+    v: View,
+    shapes: &[Shape],
+    rays: &RayColumns,
+    base: usize,
+    out: &mut [Option<RawHit>],
+) {
+    let p = Lanes::from_columns(rays, base, out.len());
+    search::<F, V>(v, shapes, &p).write_raw(v.first, out);
 }
 
 /// The closest hits of `rays` in lanes.
 #[inline(always)]
-fn search<F: Float, V: Vec8>(v: View, shapes: &[Shape], rays: &[Ray]) -> Closest<F> {
-    let p = Lanes::<F>::new(rays);
+fn search<F: Float, V: Vec8>(v: View, shapes: &[Shape], p: &Lanes<F>) -> Closest<F> {
     let mut c = Closest::<F> {
         t: p.t_max,
         id: F::I::splat(ordered(NO_HIT)),
@@ -569,7 +638,7 @@ fn search<F: Float, V: Vec8>(v: View, shapes: &[Shape], rays: &[Ray]) -> Closest
         slot: F::I::splat(0),
     };
     if v.root != super::wide::EMPTY_CHILD && p.valid != 0 {
-        walk::<F, V>(v, shapes, &p, &mut c);
+        walk::<F, V>(v, shapes, p, &mut c);
     }
     c
 }
@@ -583,7 +652,7 @@ pub fn closest<F: Float, V: Vec8>(
     rays: &[Ray],
     out: &mut [Option<Found>],
 ) {
-    search::<F, V>(v, shapes, rays).write(out);
+    search::<F, V>(v, shapes, &Lanes::new(rays)).write(out);
 }
 
 #[inline(always)]
@@ -698,7 +767,7 @@ fn any_walk<F: Float, V: Vec8>(v: View, shapes: &[Shape], p: &Lanes<F>) -> u32 {
                 let i = bits.trailing_zeros() as usize;
                 bits &= bits - 1;
                 let (sr, inv) = p.single(i);
-                if traverse::any_from::<V>(v, shapes, &p.rays[i], &sr, inv, cur) {
+                if traverse::any_from::<V>(v, shapes, &p.ray(i), &sr, inv, cur) {
                     blocked |= 1 << i;
                 }
             }
@@ -771,7 +840,7 @@ fn any_analytic<F: Float>(shape: &Shape, p: &Lanes<F>, active: u32) -> u32 {
     while bits != 0 {
         let i = bits.trailing_zeros() as usize;
         bits &= bits - 1;
-        if decide(shape, &p.rays[i]).is_some() {
+        if decide(shape, &p.ray(i)).is_some() {
             hit |= 1 << i;
         }
     }

@@ -1,6 +1,6 @@
 use super::*;
 use crate::accel::tests::scene;
-use crate::accel::{Bvh, Isa};
+use crate::accel::{Bvh, Isa, RawHit};
 use crate::math::{warp, Pcg32, Vec3};
 use crate::shape::Shape;
 
@@ -96,6 +96,40 @@ fn same_hits(shapes: &[Shape]) {
         bvh.intersect_raw_n(shapes, &rays, &mut single);
         bvh.set_packets(true);
         bvh.intersect_raw_n(shapes, &rays, &mut packet);
+        // The same rays as columns of exactly their length (the last packet is loaded from
+        // a short tail), and as wider columns (the wavefront's padding).
+        let col = |f: fn(&Ray) -> f32, pad: usize| {
+            let mut c: Vec<f32> = rays.iter().map(f).collect();
+            c.resize(rays.len() + pad, f32::NAN);
+            c
+        };
+        for pad in [0, 16] {
+            let o = [
+                col(|r| r.o.x, pad),
+                col(|r| r.o.y, pad),
+                col(|r| r.o.z, pad),
+            ];
+            let d = [
+                col(|r| r.d.x, pad),
+                col(|r| r.d.y, pad),
+                col(|r| r.d.z, pad),
+            ];
+            let t_max = col(|r| r.t_max, pad);
+            let columns = crate::accel::RayColumns {
+                o: [&o[0], &o[1], &o[2]],
+                d: [&d[0], &d[1], &d[2]],
+                t_max: &t_max,
+                n: rays.len(),
+            };
+            let mut from_columns = vec![None; rays.len()];
+            bvh.intersect_raw_columns(shapes, &columns, &mut from_columns);
+            for (i, (a, b)) in packet.iter().zip(&from_columns).enumerate() {
+                let bits = |h: &Option<RawHit>| {
+                    h.map(|h| (h.hit.shape, h.hit.prim, h.hit.t.to_bits(), h.block, h.lane))
+                };
+                assert_eq!(bits(a), bits(b), "{isa:?} pad {pad} ray {i}");
+            }
+        }
         let (mut found_single, mut found_packet) = (vec![None; rays.len()], vec![None; rays.len()]);
         bvh.set_packets(false);
         bvh.intersect_n(shapes, &rays, &mut found_single);

@@ -73,7 +73,7 @@ pub use pool::POOL;
 pub use program::Program as WaveProgram;
 
 use super::path::{PathConfig, PathStrategy};
-use crate::accel::Isa;
+use crate::accel::{Isa, RayColumns};
 use crate::math::Ray;
 use crate::render::TileSums;
 use crate::scene::Scene;
@@ -204,7 +204,6 @@ fn run<F: Float>(
     let mut jobs = ends::Jobs::new(x0, y0, x1 - x0, ranges);
     let mut results = vec![[0.0f32; 3]; jobs.count as usize];
     let mut pool = Pool::new();
-    let mut rays: Vec<Ray> = Vec::with_capacity(POOL);
     let mut shadows = Shadows::new();
     let mut dead: Vec<u32> = Vec::with_capacity(POOL);
     let mut scratch = vertex::Scratch::new();
@@ -217,13 +216,19 @@ fn run<F: Float>(
             break;
         }
         let n = pool.n;
+        let traced = n;
         clock.lap(Stage::Refill);
 
         // 2. Trace (and group the paths by what they hit).
-        pool.rays_into(&mut rays);
+        let columns = RayColumns {
+            o: [&pool.o[0][..], &pool.o[1][..], &pool.o[2][..]],
+            d: [&pool.d[0][..], &pool.d[1][..], &pool.d[2][..]],
+            t_max: &pool.t_max[..],
+            n,
+        };
         scene
             .bvh
-            .intersect_raw_n(&scene.shapes, &rays, &mut pool.hit[..n]);
+            .intersect_raw_columns(&scene.shapes, &columns, &mut pool.hit[..n]);
         if prog.big_meshes {
             surface::prefetch_meshes(&scene.shapes, &pool.hit[..n], false);
         }
@@ -274,7 +279,7 @@ fn run<F: Float>(
         }
 
         clock.lap(Stage::Shadow);
-        clock.count(rays.len(), shadows.rays.len());
+        clock.count(traced, shadows.rays.len());
 
         // 5. Retire and compact.
         select(&mut dead, n, |i| pool.alive[i] == 0);

@@ -167,20 +167,6 @@ impl Pool {
         }
     }
 
-    /// The rays of the live paths, in order, into `out`.
-    pub fn rays_into(&self, out: &mut Vec<Ray>) {
-        let n = self.n;
-        let (ox, oy, oz) = (&self.o[0][..n], &self.o[1][..n], &self.o[2][..n]);
-        let (dx, dy, dz) = (&self.d[0][..n], &self.d[1][..n], &self.d[2][..n]);
-        let t_max = &self.t_max[..n];
-        out.clear();
-        out.extend((0..n).map(|i| Ray {
-            o: Vec3::new(ox[i], oy[i], oz[i]),
-            d: Vec3::new(dx[i], dy[i], dz[i]),
-            t_max: t_max[i],
-        }));
-    }
-
     /// Copies the fields of the live paths' hits (in `hit`) to their own arrays.
     pub fn spread_hits(&mut self) {
         let n = self.n;
