@@ -235,6 +235,17 @@ impl Bvh {
         }
     }
 
+    /// [`Bvh::occluded_n`] for rays given as columns: `blocked[i]` for ray `i`.
+    pub fn occluded_columns(&self, shapes: &[Shape], rays: &RayColumns, blocked: &mut [bool]) {
+        assert_eq!(rays.n, blocked.len());
+        if self.packets {
+            isa::any_columns(self.isa, self.view(), shapes, rays, blocked);
+        } else {
+            let all: Vec<Ray> = (0..rays.n).map(|i| rays.ray(i)).collect();
+            self.occluded_n(shapes, &all, blocked);
+        }
+    }
+
     /// The surface geometry of a hit found by [`Bvh::intersect_raw_n`] for `ray`.
     #[inline]
     pub fn raw_interaction(&self, shapes: &[Shape], h: &RawHit, ray: &Ray) -> SurfaceInteraction {

@@ -207,45 +207,58 @@ fn closest_raw_n(
     }
 }
 
-/// Closest hits of the rays of `rays` in packets, each named, into `out` (`rays.n` long): the
-/// columns' form of [`closest_packets_raw`], whose packets load the columns directly. The
-/// caller guarantees `isa.supported()`.
-pub fn closest_columns_raw(
-    isa: Isa,
-    v: View,
-    shapes: &[Shape],
-    rays: &super::packet::RayColumns,
-    out: &mut [Option<super::RawHit>],
-) {
-    assert_eq!(rays.n, out.len());
-    #[cfg(target_arch = "x86_64")]
-    {
-        use super::packet::{closest_raw_columns, RayColumns};
-        use super::simd::Avx8;
-        use super::RawHit;
-        use crate::simd::{F16, F8};
-        #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
-        fn avx2(v: View, shapes: &[Shape], rays: &RayColumns, out: &mut [Option<RawHit>]) {
-            for (k, o) in out.chunks_mut(8).enumerate() {
-                closest_raw_columns::<F8, Avx8>(v, shapes, rays, 8 * k, o);
+/// Generates a dispatcher `$name(isa, v, shapes, rays: &RayColumns, out)` that runs the
+/// packet function `$body(v, shapes, rays, base, out)` over packets of the lanes' width,
+/// loaded straight from the columns; the baseline takes the rays one by one through
+/// `$fallback`. The caller guarantees `isa.supported()`.
+macro_rules! column_packets {
+    ($name:ident, $($body:ident)::+, $fallback:ident, $out:ty) => {
+        #[inline]
+        pub fn $name(
+            isa: Isa,
+            v: View,
+            shapes: &[Shape],
+            rays: &super::packet::RayColumns,
+            out: &mut [$out],
+        ) {
+            assert_eq!(rays.n, out.len());
+            #[cfg(target_arch = "x86_64")]
+            {
+                use super::packet::RayColumns;
+                use super::simd::Avx8;
+                use crate::simd::{F16, F8};
+                #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
+                fn avx2(v: View, shapes: &[Shape], rays: &RayColumns, out: &mut [$out]) {
+                    for (k, o) in out.chunks_mut(8).enumerate() {
+                        $($body)::+::<F8, Avx8>(v, shapes, rays, 8 * k, o);
+                    }
+                }
+                #[target_feature(
+                    enable = "avx512f,avx512vl,avx512bw,avx512dq,avx2,fma,bmi1,bmi2,lzcnt,popcnt"
+                )]
+                fn avx512(v: View, shapes: &[Shape], rays: &RayColumns, out: &mut [$out]) {
+                    for (k, o) in out.chunks_mut(16).enumerate() {
+                        $($body)::+::<F16, Avx8>(v, shapes, rays, 16 * k, o);
+                    }
+                }
+                match isa {
+                    // SAFETY: `Bvh` only stores a supported `Isa` (checked in `set_isa` and
+                    // `Isa::best`).
+                    Isa::Avx512 => return unsafe { avx512(v, shapes, rays, out) },
+                    Isa::Avx2 => return unsafe { avx2(v, shapes, rays, out) },
+                    Isa::Baseline => {}
+                }
             }
+            let all: Vec<Ray> = (0..rays.n).map(|i| rays.ray(i)).collect();
+            $fallback(isa, v, shapes, &all, out);
         }
-        #[target_feature(
-            enable = "avx512f,avx512vl,avx512bw,avx512dq,avx2,fma,bmi1,bmi2,lzcnt,popcnt"
-        )]
-        fn avx512(v: View, shapes: &[Shape], rays: &RayColumns, out: &mut [Option<RawHit>]) {
-            for (k, o) in out.chunks_mut(16).enumerate() {
-                closest_raw_columns::<F16, Avx8>(v, shapes, rays, 16 * k, o);
-            }
-        }
-        match isa {
-            // SAFETY: `Bvh` only stores a supported `Isa` (checked in `set_isa` and
-            // `Isa::best`).
-            Isa::Avx512 => return unsafe { avx512(v, shapes, rays, out) },
-            Isa::Avx2 => return unsafe { avx2(v, shapes, rays, out) },
-            Isa::Baseline => {}
-        }
-    }
-    let all: Vec<Ray> = (0..rays.n).map(|i| rays.ray(i)).collect();
-    closest_raw_n(isa, v, shapes, &all, out);
+    };
 }
+
+column_packets!(
+    closest_columns_raw,
+    super::packet::closest_raw_columns,
+    closest_raw_n,
+    Option<super::RawHit>
+);
+column_packets!(any_columns, super::packet::any_columns, any_n, bool);

@@ -733,14 +733,31 @@ fn walk<F: Float, V: Vec8>(v: View, shapes: &[Shape], p: &Lanes<F>, c: &mut Clos
     }
 }
 
+/// [`any`] for the rays `base .. base + out.len()` of `rays`.
+#[inline(always)]
+pub fn any_columns<F: Float, V: Vec8>(
+    v: View,
+    shapes: &[Shape],
+    rays: &RayColumns,
+    base: usize,
+    out: &mut [bool],
+) {
+    occlusion::<F, V>(v, shapes, &Lanes::from_columns(rays, base, out.len()), out);
+}
+
 /// Occlusion of `rays` (at most `F::LANES`): `out[i]` for `rays[i]`, the same as
 /// [`traverse::any`] gives ray by ray.
 #[inline(always)]
 pub fn any<F: Float, V: Vec8>(v: View, shapes: &[Shape], rays: &[Ray], out: &mut [bool]) {
-    let p = Lanes::<F>::new(rays);
+    occlusion::<F, V>(v, shapes, &Lanes::new(rays), out);
+}
+
+/// Occlusion of the packet `p` into `out`.
+#[inline(always)]
+fn occlusion<F: Float, V: Vec8>(v: View, shapes: &[Shape], p: &Lanes<F>, out: &mut [bool]) {
     let mut blocked = 0u32;
     if v.root != super::wide::EMPTY_CHILD && p.valid != 0 {
-        blocked = any_walk::<F, V>(v, shapes, &p);
+        blocked = any_walk::<F, V>(v, shapes, p);
     }
     for (i, o) in out.iter_mut().enumerate() {
         *o = blocked & (1 << i) != 0;

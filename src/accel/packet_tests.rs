@@ -129,6 +129,11 @@ fn same_hits(shapes: &[Shape]) {
                 };
                 assert_eq!(bits(a), bits(b), "{isa:?} pad {pad} ray {i}");
             }
+            let mut blocked = vec![false; rays.len()];
+            bvh.occluded_columns(shapes, &columns, &mut blocked);
+            let mut expected = vec![false; rays.len()];
+            bvh.occluded_n(shapes, &rays, &mut expected);
+            assert_eq!(blocked, expected, "{isa:?} pad {pad}");
         }
         let (mut found_single, mut found_packet) = (vec![None; rays.len()], vec![None; rays.len()]);
         bvh.set_packets(false);

@@ -90,20 +90,25 @@ pub fn supports(scene: &Scene) -> bool {
         && matches!(scene.integrator.kind, crate::scene::IntegratorKind::Path)
 }
 
-/// The shadow rays of a round: the path each belongs to, the ray, and the radiance it adds
-/// when unoccluded.
+/// The shadow rays of a round: the path each belongs to, the ray (as columns, which the
+/// packets load straight into lanes), and the radiance it adds when unoccluded.
 pub(super) struct Shadows {
     slot: Vec<u32>,
-    rays: Vec<Ray>,
+    o: [Vec<f32>; 3],
+    d: [Vec<f32>; 3],
+    t_max: Vec<f32>,
     contribution: Vec<SampledSpectrum>,
     blocked: Vec<bool>,
 }
 
 impl Shadows {
     fn new() -> Shadows {
+        let col = || Vec::with_capacity(POOL);
         Shadows {
             slot: Vec::with_capacity(POOL),
-            rays: Vec::with_capacity(POOL),
+            o: [col(), col(), col()],
+            d: [col(), col(), col()],
+            t_max: col(),
             contribution: Vec::with_capacity(POOL),
             blocked: Vec::with_capacity(POOL),
         }
@@ -112,14 +117,41 @@ impl Shadows {
     #[inline]
     pub(super) fn push(&mut self, slot: u32, ray: Ray, c: SampledSpectrum) {
         self.slot.push(slot);
-        self.rays.push(ray);
+        for a in 0..3 {
+            self.o[a].push(ray.o[a]);
+            self.d[a].push(ray.d[a]);
+        }
+        self.t_max.push(ray.t_max);
         self.contribution.push(c);
+    }
+
+    fn len(&self) -> usize {
+        self.slot.len()
     }
 
     fn clear(&mut self) {
         self.slot.clear();
-        self.rays.clear();
+        for a in 0..3 {
+            self.o[a].clear();
+            self.d[a].clear();
+        }
+        self.t_max.clear();
         self.contribution.clear();
+    }
+
+    /// Sets `blocked` for every ray.
+    fn trace(&mut self, scene: &Scene) {
+        let columns = RayColumns {
+            o: [&self.o[0], &self.o[1], &self.o[2]],
+            d: [&self.d[0], &self.d[1], &self.d[2]],
+            t_max: &self.t_max,
+            n: self.slot.len(),
+        };
+        self.blocked.clear();
+        self.blocked.resize(columns.n, false);
+        scene
+            .bvh
+            .occluded_columns(&scene.shapes, &columns, &mut self.blocked);
     }
 }
 
@@ -260,11 +292,7 @@ fn run<F: Float>(
         clock.lap(Stage::Shade);
 
         // 4. Shadow rays.
-        shadows.blocked.clear();
-        shadows.blocked.resize(shadows.rays.len(), false);
-        scene
-            .bvh
-            .occluded_n(&scene.shapes, &shadows.rays, &mut shadows.blocked);
+        shadows.trace(scene);
         for ((&i, c), &b) in shadows
             .slot
             .iter()
@@ -279,7 +307,7 @@ fn run<F: Float>(
         }
 
         clock.lap(Stage::Shadow);
-        clock.count(traced, shadows.rays.len());
+        clock.count(traced, shadows.len());
 
         // 5. Retire and compact.
         select(&mut dead, n, |i| pool.alive[i] == 0);
