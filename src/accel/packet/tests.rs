@@ -1,7 +1,6 @@
-use super::*;
 use crate::accel::tests::scene;
 use crate::accel::{Bvh, Isa, RawHit};
-use crate::math::{warp, Pcg32, Vec3};
+use crate::math::{warp, Pcg32, Ray, Vec3};
 use crate::shape::Shape;
 
 /// Batches of rays: bundles from one origin in nearby directions (as a pixel's samples),
