@@ -91,64 +91,67 @@ pub fn supports(scene: &Scene) -> bool {
 }
 
 /// The shadow rays of a round: the path each belongs to, the ray (as columns, which the
-/// packets load straight into lanes), and the radiance it adds when unoccluded.
+/// packets load straight into lanes), and the radiance it adds when unoccluded. A round has
+/// at most one shadow ray per path, so each column holds [`POOL`].
 pub(super) struct Shadows {
-    slot: Vec<u32>,
-    o: [Vec<f32>; 3],
-    d: [Vec<f32>; 3],
-    t_max: Vec<f32>,
-    contribution: Vec<SampledSpectrum>,
+    n: usize,
+    slot: Box<[u32; POOL]>,
+    o: [Box<[f32; POOL]>; 3],
+    d: [Box<[f32; POOL]>; 3],
+    t_max: Box<[f32; POOL]>,
+    contribution: Box<[SampledSpectrum; POOL]>,
     blocked: Vec<bool>,
 }
 
 impl Shadows {
     fn new() -> Shadows {
-        let col = || Vec::with_capacity(POOL);
+        let col = || Box::new([0.0; POOL]);
         Shadows {
-            slot: Vec::with_capacity(POOL),
+            n: 0,
+            slot: Box::new([0; POOL]),
             o: [col(), col(), col()],
             d: [col(), col(), col()],
             t_max: col(),
-            contribution: Vec::with_capacity(POOL),
+            contribution: Box::new([SampledSpectrum::splat(0.0); POOL]),
             blocked: Vec::with_capacity(POOL),
         }
     }
 
-    #[inline]
+    #[inline(always)]
     pub(super) fn push(&mut self, slot: u32, ray: Ray, c: SampledSpectrum) {
-        self.slot.push(slot);
-        for a in 0..3 {
-            self.o[a].push(ray.o[a]);
-            self.d[a].push(ray.d[a]);
-        }
-        self.t_max.push(ray.t_max);
-        self.contribution.push(c);
+        let k = self.n;
+        assert!(k < POOL, "more shadow rays than paths in a round");
+        self.slot[k] = slot;
+        self.o[0][k] = ray.o.x;
+        self.o[1][k] = ray.o.y;
+        self.o[2][k] = ray.o.z;
+        self.d[0][k] = ray.d.x;
+        self.d[1][k] = ray.d.y;
+        self.d[2][k] = ray.d.z;
+        self.t_max[k] = ray.t_max;
+        self.contribution[k] = c;
+        self.n = k + 1;
     }
 
     fn len(&self) -> usize {
-        self.slot.len()
+        self.n
     }
 
     fn clear(&mut self) {
-        self.slot.clear();
-        for a in 0..3 {
-            self.o[a].clear();
-            self.d[a].clear();
-        }
-        self.t_max.clear();
-        self.contribution.clear();
+        self.n = 0;
     }
 
     /// Sets `blocked` for every ray.
     fn trace(&mut self, scene: &Scene) {
+        let n = self.n;
         let columns = RayColumns {
-            o: [&self.o[0], &self.o[1], &self.o[2]],
-            d: [&self.d[0], &self.d[1], &self.d[2]],
-            t_max: &self.t_max,
-            n: self.slot.len(),
+            o: [&self.o[0][..], &self.o[1][..], &self.o[2][..]],
+            d: [&self.d[0][..], &self.d[1][..], &self.d[2][..]],
+            t_max: &self.t_max[..],
+            n,
         };
         self.blocked.clear();
-        self.blocked.resize(columns.n, false);
+        self.blocked.resize(n, false);
         scene
             .bvh
             .occluded_columns(&scene.shapes, &columns, &mut self.blocked);
@@ -293,10 +296,10 @@ fn run<F: Float>(
 
         // 4. Shadow rays.
         shadows.trace(scene);
-        for ((&i, c), &b) in shadows
-            .slot
+        let m = shadows.len();
+        for ((&i, c), &b) in shadows.slot[..m]
             .iter()
-            .zip(&shadows.contribution)
+            .zip(&shadows.contribution[..m])
             .zip(&shadows.blocked)
         {
             if !b {
