@@ -64,6 +64,18 @@ impl<V: Vec8> BoxRay<V> {
     }
 }
 
+/// Inserts `key` into `keys[..n]`, kept in descending order (entry distance in the high bits:
+/// the farthest child first, the nearest last).
+#[inline(always)]
+pub(super) fn insert_far_first(keys: &mut [u64; 8], n: usize, key: u64) {
+    let mut j = n;
+    while j > 0 && keys[j - 1] < key {
+        keys[j] = keys[j - 1];
+        j -= 1;
+    }
+    keys[j] = key;
+}
+
 /// The closest hit found by a traversal.
 #[derive(Clone, Copy, Debug)]
 pub struct Found {
@@ -152,12 +164,7 @@ pub(super) fn closest_from<V: Vec8>(
                     mask &= mask - 1;
                     v.prefetch(node.child[lane]);
                     let key = ((near[lane].to_bits() as u64) << 32) | node.child[lane] as u64;
-                    let mut j = n;
-                    while j > 0 && keys[j - 1] < key {
-                        keys[j] = keys[j - 1];
-                        j -= 1;
-                    }
-                    keys[j] = key;
+                    insert_far_first(&mut keys, n, key);
                     n += 1;
                 }
                 for &k in &keys[..n - 1] {

@@ -1,7 +1,7 @@
 //! Occlusion in packets: the walk of the tree with a stack of (subtree, rays), rays leaving
 //! the packet as soon as something blocks them.
+use super::alone;
 use super::lanes::{decide, Lanes, RayColumns};
-use super::{SWITCH_LEAF, SWITCH_NODE};
 use crate::accel::block::{ANALYTIC, EMPTY};
 use crate::accel::simd::Vec8;
 use crate::accel::traverse::{self, View, STACK};
@@ -50,13 +50,7 @@ fn any_walk<F: Float, V: Vec8>(v: View, shapes: &[Shape], p: &Lanes<F>) -> u32 {
     let (mut cur, mut active) = (v.root, p.valid);
     let inf = F::splat(f32::INFINITY);
     loop {
-        if active.count_ones()
-            <= if cur & LEAF != 0 {
-                SWITCH_LEAF
-            } else {
-                SWITCH_NODE
-            }
-        {
+        if alone(cur, active) {
             let mut bits = active;
             while bits != 0 {
                 let i = bits.trailing_zeros() as usize;

@@ -1,7 +1,7 @@
 //! Closest hits in packets: the walk of the tree with a stack of (subtree, rays, entry
 //! distances), and each lane's closest hit kept in lanes until the packet is done.
 use super::lanes::{decide, Lanes, RayColumns};
-use super::{MAX_LANES, SWITCH_LEAF, SWITCH_NODE};
+use super::{alone, MAX_LANES};
 use crate::accel::block::{widen, Best, ANALYTIC, EMPTY, NO_HIT};
 use crate::accel::bvh::SHORT_TABLE;
 use crate::accel::simd::Vec8;
@@ -285,13 +285,7 @@ fn walk<F: Float, V: Vec8>(v: View, shapes: &[Shape], p: &Lanes<F>, c: &mut Clos
     let mut sp = 0usize;
     let (mut cur, mut active) = (v.root, p.valid);
     loop {
-        if active.count_ones()
-            <= if cur & LEAF != 0 {
-                SWITCH_LEAF
-            } else {
-                SWITCH_NODE
-            }
-        {
+        if alone(cur, active) {
             c.single::<V>(v, shapes, p, cur, active);
         } else if cur & LEAF != 0 {
             c.leaf(v, shapes, p, cur, active);
@@ -316,12 +310,7 @@ fn walk<F: Float, V: Vec8>(v: View, shapes: &[Shape], p: &Lanes<F>, c: &mut Clos
                 rays[lane] = m;
                 let key = ((near[lane][m.trailing_zeros() as usize].to_bits() as u64) << 32)
                     | lane as u64;
-                let mut j = n;
-                while j > 0 && keys[j - 1] < key {
-                    keys[j] = keys[j - 1];
-                    j -= 1;
-                }
-                keys[j] = key;
+                traverse::insert_far_first(&mut keys, n, key);
                 n += 1;
             }
             if n > 0 {

@@ -52,6 +52,17 @@ pub const SWITCH_NODE: u32 = 3;
 /// than 3 on the Cornell box, level on the mesh).
 pub const SWITCH_LEAF: u32 = 1;
 
+/// Whether the rays `active` go on alone from `node` (a node's or a leaf's reference).
+#[inline(always)]
+fn alone(node: u32, active: u32) -> bool {
+    let most = if node & super::wide::LEAF != 0 {
+        SWITCH_LEAF
+    } else {
+        SWITCH_NODE
+    };
+    active.count_ones() <= most
+}
+
 /// Most lanes of a packet.
 const MAX_LANES: usize = 16;
 
