@@ -117,7 +117,6 @@ impl Bvh {
             bounds,
             isa: Isa::best(),
             // OPHIS_PACKETS=0 traces batches ray by ray, for side-by-side measurements.
-            // OPHIS_PACKETS=0 traces batches ray by ray, for side-by-side measurements.
             packets: std::env::var_os("OPHIS_PACKETS").is_none_or(|v| v != "0"),
         }
     }

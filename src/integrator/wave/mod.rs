@@ -10,7 +10,8 @@
 //!
 //! 1. **refills** the pool: new jobs draw their wavelengths, filter offset and lens sample
 //!    and get their camera ray, exactly as [`crate::render`]'s scalar loop does;
-//! 2. **traces** every live path's ray in one batch ([`crate::accel::Bvh::intersect_raw_n`]);
+//! 2. **traces** every live path's ray in one batch, handed over as the pool's columns
+//!    ([`crate::accel::Bvh::intersect_raw_columns`], sixteen rays to a SIMD packet);
 //!    where the scene has no infinite light, paths whose ray escaped end here (they are
 //!    retired and removed, as in step 5), and the others are **grouped** by what they hit
 //!    (`group.rs`), so that a chunk of lanes mostly runs one material's code;
@@ -18,7 +19,8 @@
 //!    [`program::Program`] marks (the materials and lights the lanes implement) run the vertex
 //!    in lanes, the rest run the scalar estimator ([`PathState::escape`] /
 //!    [`PathState::scatter`]) path by path; both hand back shadow rays instead of tracing them;
-//! 4. **traces the shadow rays** in one batch and adds the contributions of unoccluded ones;
+//! 4. **traces the shadow rays** in one batch (kept as columns too) and adds the contributions
+//!    of unoccluded ones;
 //! 5. **retires** the paths that ended, writing their XYZ value to their job's slot, and
 //!    fills each hole with the last live path.
 //!
