@@ -226,6 +226,7 @@ impl Bvh {
         out: &mut [Option<RawHit>],
     ) {
         assert_eq!(rays.n, out.len());
+        rays.check();
         if self.packets {
             isa::closest_columns_raw(self.isa, self.view(), shapes, rays, out);
         } else {
@@ -237,6 +238,7 @@ impl Bvh {
     /// [`Bvh::occluded_n`] for rays given as columns: `blocked[i]` for ray `i`.
     pub fn occluded_columns(&self, shapes: &[Shape], rays: &RayColumns, blocked: &mut [bool]) {
         assert_eq!(rays.n, blocked.len());
+        rays.check();
         if self.packets {
             isa::any_columns(self.isa, self.view(), shapes, rays, blocked);
         } else {

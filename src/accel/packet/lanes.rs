@@ -59,6 +59,13 @@ pub struct RayColumns<'a> {
 }
 
 impl RayColumns<'_> {
+    /// Panics unless every column holds the `n` rays.
+    pub fn check(&self) {
+        let short =
+            self.o.iter().chain(&self.d).any(|c| c.len() < self.n) || self.t_max.len() < self.n;
+        assert!(!short, "ray columns shorter than their {} rays", self.n);
+    }
+
     /// Ray `i`.
     #[inline]
     pub fn ray(&self, i: usize) -> Ray {
