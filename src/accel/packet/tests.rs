@@ -4,14 +4,15 @@ use crate::math::{warp, Pcg32, Ray, Vec3};
 use crate::shape::Shape;
 
 /// Batches of rays: bundles from one origin in nearby directions (as a pixel's samples),
-/// incoherent ones, rays with short extents, zero directions and axis-aligned directions.
+/// incoherent ones, rays with short, zero or tiny extents, zero, axis-aligned and non-unit
+/// directions.
 fn rays(rng: &mut Pcg32, n: usize) -> Vec<Ray> {
     let mut out = Vec::with_capacity(n);
     while out.len() < n {
         let o =
             Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 30.0 - Vec3::splat(15.0);
         let d0 = warp::square_to_uniform_sphere(rng.next_vec2());
-        let kind = rng.next_u32() % 4;
+        let kind = rng.next_u32() % 5;
         for j in 0..16 {
             let mut r = match kind {
                 // A coherent bundle.
@@ -26,6 +27,16 @@ fn rays(rng: &mut Pcg32, n: usize) -> Vec<Ray> {
                     let o = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 30.0
                         - Vec3::splat(15.0);
                     Ray::new(o, warp::square_to_uniform_sphere(rng.next_vec2()))
+                }
+                // Directions far from unit length; no extent or a tiny one.
+                3 => {
+                    let scale = [1e-3, 1e3, 0.5, 7.0][j % 4];
+                    let mut r =
+                        Ray::new(o, warp::square_to_uniform_sphere(rng.next_vec2()) * scale);
+                    if j % 7 == 3 {
+                        r.t_max = [0.0, 1e-30, f32::MIN_POSITIVE][j % 3];
+                    }
+                    r
                 }
                 // Axis-aligned and zero directions.
                 _ => {
