@@ -67,7 +67,15 @@ pub struct Bvh {
     isa: Isa,
     /// Whether batches are traced in packets ([`super::packet`]) rather than ray by ray.
     packets: bool,
+    /// Whether column queries interleave their rays' single-ray walks (see [`View`]).
+    interleave: bool,
 }
+
+/// Blocks from which a tree's column queries interleave their single-ray walks
+/// (`packet/walkers.rs`): 10 MB of blocks, well beyond the L2 cache, where a walk's next node
+/// or leaf is rarely in cache. Below it the queueing costs more than it hides (the
+/// Cornell box's spheres: 9 % slower).
+pub const INTERLEAVE_BLOCKS: usize = 1 << 16;
 
 impl Default for Bvh {
     fn default() -> Bvh {
@@ -107,6 +115,8 @@ impl Bvh {
             0 => Bounds3::EMPTY,
             _ => Bounds3 { min: lo, max: hi },
         };
+        let interleave = l.blocks.len() >= INTERLEAVE_BLOCKS
+            && std::env::var_os("OPHIS_WALKERS").is_none_or(|v| v != "0");
         Bvh {
             nodes: l.nodes,
             blocks: l.blocks,
@@ -116,8 +126,10 @@ impl Bvh {
             depth: l.depth,
             bounds,
             isa: Isa::best(),
-            // OPHIS_PACKETS=0 traces batches ray by ray, for side-by-side measurements.
+            // OPHIS_PACKETS=0 traces batches ray by ray, OPHIS_WALKERS=0 never interleaves
+            // walks: for side-by-side measurements.
             packets: std::env::var_os("OPHIS_PACKETS").is_none_or(|v| v != "0"),
+            interleave,
         }
     }
 
@@ -173,12 +185,20 @@ impl Bvh {
         self.packets = on;
     }
 
+    /// Makes the closest-hit column queries interleave their single-ray walks (`true`) or
+    /// run each at once; by default they do on trees of [`INTERLEAVE_BLOCKS`] blocks or more.
+    /// Both give the same hits.
+    pub fn set_interleave(&mut self, on: bool) {
+        self.interleave = on;
+    }
+
     fn view(&self) -> View<'_> {
         View {
             nodes: &self.nodes,
             blocks: &self.blocks,
             root: self.root,
             first: &self.first,
+            interleave: self.interleave,
         }
     }
 

@@ -207,10 +207,10 @@ fn closest_raw_n(
     }
 }
 
-/// Generates a dispatcher `$name(isa, v, shapes, rays: &RayColumns, out)` that runs the
-/// packet function `$body(v, shapes, rays, base, out)` over packets of the lanes' width,
-/// loaded straight from the columns; the baseline takes the rays one by one through
-/// `$fallback`. The caller guarantees `isa.supported()`.
+/// Generates a dispatcher `$name(isa, v, shapes, rays: &RayColumns, out)` that hands the
+/// whole batch to the packet function `$body(v, shapes, rays, out)`, compiled for the lanes'
+/// width (sixteen rays to a packet with AVX-512, eight with AVX2); the baseline takes the rays
+/// one by one through `$fallback`. The caller guarantees `isa.supported()`.
 macro_rules! column_packets {
     ($name:ident, $($body:ident)::+, $fallback:ident, $out:ty) => {
         #[inline]
@@ -229,17 +229,13 @@ macro_rules! column_packets {
                 use crate::simd::{F16, F8};
                 #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
                 fn avx2(v: View, shapes: &[Shape], rays: &RayColumns, out: &mut [$out]) {
-                    for (k, o) in out.chunks_mut(8).enumerate() {
-                        $($body)::+::<F8, Avx8>(v, shapes, rays, 8 * k, o);
-                    }
+                    $($body)::+::<F8, Avx8>(v, shapes, rays, out);
                 }
                 #[target_feature(
                     enable = "avx512f,avx512vl,avx512bw,avx512dq,avx2,fma,bmi1,bmi2,lzcnt,popcnt"
                 )]
                 fn avx512(v: View, shapes: &[Shape], rays: &RayColumns, out: &mut [$out]) {
-                    for (k, o) in out.chunks_mut(16).enumerate() {
-                        $($body)::+::<F16, Avx8>(v, shapes, rays, 16 * k, o);
-                    }
+                    $($body)::+::<F16, Avx8>(v, shapes, rays, out);
                 }
                 match isa {
                     // SAFETY: `Bvh` only stores a supported `Isa` (checked in `set_isa` and
@@ -257,8 +253,8 @@ macro_rules! column_packets {
 
 column_packets!(
     closest_columns_raw,
-    super::packet::closest_raw_columns,
+    super::packet::closest_raw_batch,
     closest_raw_n,
     Option<super::RawHit>
 );
-column_packets!(any_columns, super::packet::any_columns, any_n, bool);
+column_packets!(any_columns, super::packet::any_batch, any_n, bool);

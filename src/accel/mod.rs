@@ -29,11 +29,16 @@
 //! **Packets** ([`packet`]). Batches are traced sixteen rays at a time (eight with AVX2), one
 //! per SIMD lane: each child box and each leaf primitive is tested against all the packet's
 //! rays at once, and where a subtree is entered by few of them each goes on alone with the
-//! single-ray loops above. Same hits, bit for bit.
+//! single-ray loops above. Same hits, bit for bit. On trees of more than
+//! [`bvh::INTERLEAVE_BLOCKS`] blocks the column queries (the wavefront's) queue those walks
+//! and run eight at a time in turn, each prefetching what it reads next while the others
+//! compute (`packet/walkers.rs`).
 //!
 //! **Queries**: [`Bvh::intersect`](Accel::intersect) and [`Bvh::occluded`](Accel::occluded)
 //! for one ray, [`Bvh::intersect_n`] / [`Bvh::occluded_n`] for a batch (in packets, or ray by
-//! ray with [`Bvh::set_packets`] or `OPHIS_PACKETS=0`). [`BruteForce`] tests every primitive
+//! ray with [`Bvh::set_packets`] or `OPHIS_PACKETS=0`), and [`Bvh::intersect_raw_columns`] /
+//! [`Bvh::occluded_columns`] for the wavefront's rays as columns (walks interleaved or not
+//! with [`Bvh::set_interleave`] or `OPHIS_WALKERS=0`). [`BruteForce`] tests every primitive
 //! and is the oracle in tests.
 use crate::math::Ray;
 use crate::shape::{Hit, Shape};

@@ -32,12 +32,15 @@ pub struct View<'a> {
     /// Global id of each shape's first triangle and the total at the end (see
     /// [`super::Bvh`]), to name the shape and triangle of a hit.
     pub first: &'a [u32],
+    /// Whether the column queries interleave their single-ray walks
+    /// ([`super::packet::closest_raw_batch`]).
+    pub interleave: bool,
 }
 
 impl View<'_> {
     /// Prefetches the memory of child reference `c`: a node, or all of a leaf's blocks.
     #[inline(always)]
-    fn prefetch(&self, c: u32) {
+    pub(crate) fn prefetch(&self, c: u32) {
         if c & LEAF != 0 {
             let (first, n) = leaf_range(c);
             prefetch(self.blocks.as_ptr().wrapping_add(first), n);
@@ -48,15 +51,15 @@ impl View<'_> {
 }
 
 /// The per-ray constants of the box tests.
-struct BoxRay<V> {
-    o: [V; 3],
-    inv_d: [V; 3],
+pub(crate) struct BoxRay<V> {
+    pub(crate) o: [V; 3],
+    pub(crate) inv_d: [V; 3],
 }
 
 impl<V: Vec8> BoxRay<V> {
     /// For `ray` with reciprocal direction `inv`.
     #[inline(always)]
-    fn new(ray: &Ray, inv: Vec3) -> BoxRay<V> {
+    pub(crate) fn new(ray: &Ray, inv: Vec3) -> BoxRay<V> {
         BoxRay {
             o: [V::splat(ray.o.x), V::splat(ray.o.y), V::splat(ray.o.z)],
             inv_d: [V::splat(inv.x), V::splat(inv.y), V::splat(inv.z)],

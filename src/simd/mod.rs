@@ -35,6 +35,19 @@ pub use x512::{F16, I16, M16};
 #[cfg(target_arch = "x86_64")]
 pub use x86::{F8, I8, M8};
 
+/// The indices of the set bits of a lane mask, lowest first.
+#[inline(always)]
+pub fn lanes(bits: u32) -> impl Iterator<Item = usize> {
+    let mut b = bits;
+    std::iter::from_fn(move || {
+        (b != 0).then(|| {
+            let i = b.trailing_zeros() as usize;
+            b &= b - 1;
+            i
+        })
+    })
+}
+
 use std::fmt::Debug;
 use std::ops::{
     Add, AddAssign, BitAnd, BitOr, BitXor, Div, DivAssign, Mul, MulAssign, Neg, Not, Sub, SubAssign,

@@ -1,6 +1,7 @@
 //! Closest hits in packets: the walk of the tree with a stack of (subtree, rays, entry
 //! distances), and each lane's closest hit kept in lanes until the packet is done.
 use super::lanes::{decide, Lanes, RayColumns};
+use super::walkers::{self, Defer, Queue, Subject};
 use super::{alone, MAX_LANES};
 use crate::accel::block::{widen, Best, ANALYTIC, EMPTY, NO_HIT};
 use crate::accel::bvh::SHORT_TABLE;
@@ -10,7 +11,7 @@ use crate::accel::wide::{leaf_range, EMPTY_CHILD, LEAF};
 use crate::accel::RawHit;
 use crate::math::{Ray, Vec2};
 use crate::shape::{Hit, Shape};
-use crate::simd::{Float, Int, Mask};
+use crate::simd::{lanes, Float, Int, Mask};
 use std::mem::MaybeUninit;
 
 /// The closest hits of the packet so far, in lanes: [`NO_HIT`] (flipped) where none.
@@ -33,6 +34,19 @@ fn ordered(id: u32) -> i32 {
 }
 
 impl<F: Float> Closest<F> {
+    /// Nothing hit yet within the rays' own extents.
+    #[inline(always)]
+    fn new(p: &Lanes<F>) -> Closest<F> {
+        Closest {
+            t: p.t_max,
+            id: F::I::splat(ordered(NO_HIT)),
+            u: F::splat(0.0),
+            v: F::splat(0.0),
+            block: F::I::splat(0),
+            slot: F::I::splat(0),
+        }
+    }
+
     /// Lane `i`'s closest hit so far as a [`Best`].
     #[inline(always)]
     fn best(&self, i: usize) -> Best {
@@ -253,16 +267,9 @@ pub fn closest_raw_columns<F: Float, V: Vec8>(
 /// The closest hits of `rays` in lanes.
 #[inline(always)]
 fn search<F: Float, V: Vec8>(v: View, shapes: &[Shape], p: &Lanes<F>) -> Closest<F> {
-    let mut c = Closest::<F> {
-        t: p.t_max,
-        id: F::I::splat(ordered(NO_HIT)),
-        u: F::splat(0.0),
-        v: F::splat(0.0),
-        block: F::I::splat(0),
-        slot: F::I::splat(0),
-    };
+    let mut c = Closest::new(p);
     if v.root != EMPTY_CHILD && p.valid != 0 {
-        walk::<F, V>(v, shapes, p, &mut c);
+        walk::<F, V>(v, shapes, p, &mut c, None);
     }
     c
 }
@@ -279,14 +286,25 @@ pub fn closest<F: Float, V: Vec8>(
     search::<F, V>(v, shapes, &Lanes::new(rays)).write(out);
 }
 
+/// The packet's walk; the rays that go on alone do so at once, or are queued in `defer`.
 #[inline(always)]
-fn walk<F: Float, V: Vec8>(v: View, shapes: &[Shape], p: &Lanes<F>, c: &mut Closest<F>) {
+fn walk<F: Float, V: Vec8>(
+    v: View,
+    shapes: &[Shape],
+    p: &Lanes<F>,
+    c: &mut Closest<F>,
+    mut defer: Option<&mut Defer>,
+) {
     let mut stack = [const { MaybeUninit::<Entry<F>>::uninit() }; STACK];
     let mut sp = 0usize;
-    let (mut cur, mut active) = (v.root, p.valid);
+    // The current subtree, its rays and their entry distances.
+    let (mut cur, mut active, mut entry) = (v.root, p.valid, F::splat(0.0));
     loop {
         if alone(cur, active) {
-            c.single::<V>(v, shapes, p, cur, active);
+            match defer.as_mut() {
+                Some(d) => d.push(cur, active, entry),
+                None => c.single::<V>(v, shapes, p, cur, active),
+            }
         } else if cur & LEAF != 0 {
             c.leaf(v, shapes, p, cur, active);
         } else {
@@ -324,7 +342,7 @@ fn walk<F: Float, V: Vec8>(v: View, shapes: &[Shape], p: &Lanes<F>, c: &mut Clos
                     sp += 1;
                 }
                 let lane = (keys[n - 1] & 7) as usize;
-                (cur, active) = (node.child[lane], rays[lane]);
+                (cur, active, entry) = (node.child[lane], rays[lane], F::load(&near[lane]));
                 continue;
             }
         }
@@ -339,9 +357,65 @@ fn walk<F: Float, V: Vec8>(v: View, shapes: &[Shape], p: &Lanes<F>, c: &mut Clos
             // still hold a tie.
             let keep = e.near.le(c.t * F::splat(widen(1.0))).bits() & e.rays;
             if keep != 0 {
-                (cur, active) = (e.node, keep);
+                (cur, active, entry) = (e.node, keep, e.near);
                 break;
             }
+        }
+    }
+}
+
+/// [`closest_raw_columns`] for a whole batch. On a tree that [`View::interleave`]s, the
+/// batch goes in chunks of [`walkers::CHUNK`] rays: every packet's walk runs first, queueing
+/// the single-ray walks of its rays that go on alone; then the chunk's queued walks run,
+/// [`walkers::WALKERS`] at a time (`walkers.rs`), and each packet's hits are written with
+/// theirs.
+#[inline(always)]
+pub fn closest_raw_batch<F: Float, V: Vec8>(
+    v: View,
+    shapes: &[Shape],
+    rays: &RayColumns,
+    out: &mut [Option<RawHit>],
+) {
+    if !v.interleave || v.root == EMPTY_CHILD {
+        for (k, o) in out.chunks_mut(F::LANES).enumerate() {
+            closest_raw_columns::<F, V>(v, shapes, rays, F::LANES * k, o);
+        }
+        return;
+    }
+    let mut queue = Queue::new(out.len());
+    let mut packets: Vec<(Closest<F>, u32)> = Vec::with_capacity(walkers::CHUNK / F::LANES);
+    for (k, chunk) in out.chunks_mut(walkers::CHUNK).enumerate() {
+        packets.clear();
+        for (j, o) in chunk.chunks(F::LANES).enumerate() {
+            let p = Lanes::<F>::from_columns(rays, k * walkers::CHUNK + F::LANES * j, o.len());
+            let mut c = Closest::<F>::new(&p);
+            let mut d = queue.defer(F::LANES * j);
+            if p.valid != 0 {
+                walk::<F, V>(v, shapes, &p, &mut c, Some(&mut d));
+            }
+            let used = d.used;
+            // The rays that queued walks, with what their packet found.
+            for i in lanes(used) {
+                let (sr, inv) = p.single(i);
+                queue.subjects[F::LANES * j + i] = Subject {
+                    ray: p.ray(i),
+                    sr,
+                    inv,
+                    best: c.best(i),
+                    found: None,
+                    blocked: false,
+                };
+            }
+            packets.push((c, used));
+        }
+        queue.run::<V, (u32, f32)>(v, shapes, chunk.len());
+        for (j, (o, (c, used))) in chunk.chunks_mut(F::LANES).zip(&mut packets).enumerate() {
+            for i in lanes(*used) {
+                if let Some(f) = queue.subjects[F::LANES * j + i].found {
+                    c.set(i, f);
+                }
+            }
+            c.write_raw(v.first, o);
         }
     }
 }

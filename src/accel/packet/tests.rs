@@ -131,19 +131,33 @@ fn same_hits(shapes: &[Shape]) {
                 t_max: &t_max,
                 n: rays.len(),
             };
-            let mut from_columns = vec![None; rays.len()];
-            bvh.intersect_raw_columns(shapes, &columns, &mut from_columns);
-            for (i, (a, b)) in packet.iter().zip(&from_columns).enumerate() {
-                let bits = |h: &Option<RawHit>| {
-                    h.map(|h| (h.hit.shape, h.hit.prim, h.hit.t.to_bits(), h.block, h.lane))
-                };
-                assert_eq!(bits(a), bits(b), "{isa:?} pad {pad} ray {i}");
+            // The walks run at once and queued (interleaved; see `walkers.rs`).
+            for interleave in [false, true] {
+                bvh.set_interleave(interleave);
+                let mut from_columns = vec![None; rays.len()];
+                bvh.intersect_raw_columns(shapes, &columns, &mut from_columns);
+                for (i, (a, b)) in packet.iter().zip(&from_columns).enumerate() {
+                    let bits = |h: &Option<RawHit>| {
+                        h.map(|h| {
+                            (
+                                h.hit.shape,
+                                h.hit.prim,
+                                h.hit.t.to_bits(),
+                                h.hit.uv.x.to_bits(),
+                                h.hit.uv.y.to_bits(),
+                                h.block,
+                                h.lane,
+                            )
+                        })
+                    };
+                    assert_eq!(bits(a), bits(b), "{isa:?} pad {pad} {interleave} ray {i}");
+                }
+                let mut blocked = vec![false; rays.len()];
+                bvh.occluded_columns(shapes, &columns, &mut blocked);
+                let mut expected = vec![false; rays.len()];
+                bvh.occluded_n(shapes, &rays, &mut expected);
+                assert_eq!(blocked, expected, "{isa:?} pad {pad} {interleave}");
             }
-            let mut blocked = vec![false; rays.len()];
-            bvh.occluded_columns(shapes, &columns, &mut blocked);
-            let mut expected = vec![false; rays.len()];
-            bvh.occluded_n(shapes, &rays, &mut expected);
-            assert_eq!(blocked, expected, "{isa:?} pad {pad}");
         }
         let (mut found_single, mut found_packet) = (vec![None; rays.len()], vec![None; rays.len()]);
         bvh.set_packets(false);

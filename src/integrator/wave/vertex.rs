@@ -121,18 +121,7 @@ pub(super) fn is_finite<F: Float>(s: &Spec<F>) -> F::M {
     s[0].is_finite() & s[1].is_finite() & s[2].is_finite() & s[3].is_finite()
 }
 
-/// Bits of a mask, iterated.
-#[inline(always)]
-pub(super) fn lanes(bits: u32) -> impl Iterator<Item = usize> {
-    let mut b = bits;
-    std::iter::from_fn(move || {
-        (b != 0).then(|| {
-            let i = b.trailing_zeros() as usize;
-            b &= b - 1;
-            i
-        })
-    })
-}
+pub(super) use crate::simd::lanes;
 
 /// Next sampler value of each lane in `m` (others 0): the independent sampler's PCG32 in
 /// lanes, the others lane by lane.
