@@ -58,7 +58,7 @@ pub fn any_batch<F: Float, V: Vec8>(
         }
         return;
     }
-    let mut queue = Queue::new(out.len());
+    let mut queue = Queue::take();
     let mut packets: Vec<(u32, u32)> = Vec::with_capacity(walkers::CHUNK / F::LANES);
     for (k, chunk) in out.chunks_mut(walkers::CHUNK).enumerate() {
         packets.clear();
@@ -87,6 +87,7 @@ pub fn any_batch<F: Float, V: Vec8>(
             }
         }
     }
+    queue.give_back();
 }
 
 /// The packet's walk; the rays that go on alone do so at once, or are queued in `defer`.

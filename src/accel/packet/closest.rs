@@ -382,7 +382,7 @@ pub fn closest_raw_batch<F: Float, V: Vec8>(
         }
         return;
     }
-    let mut queue = Queue::new(out.len());
+    let mut queue = Queue::take();
     let mut packets: Vec<(Closest<F>, u32)> = Vec::with_capacity(walkers::CHUNK / F::LANES);
     for (k, chunk) in out.chunks_mut(walkers::CHUNK).enumerate() {
         packets.clear();
@@ -418,4 +418,5 @@ pub fn closest_raw_batch<F: Float, V: Vec8>(
             c.write_raw(v.first, o);
         }
     }
+    queue.give_back();
 }
