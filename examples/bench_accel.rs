@@ -13,14 +13,16 @@
 //! benchmark camera. With `--scene` they are the scene's shapes and camera.
 //!
 //! Rays are traced one by one (`Accel::intersect`, `Accel::occluded`) and in batches of 1024
-//! (`Bvh::intersect_n`, `Bvh::occluded_n`, as the wavefront integrator traces them).
+//! given as columns (`Bvh::intersect_raw_columns`, `Bvh::occluded_columns`), as the wavefront
+//! integrator traces them (on trees of `INTERLEAVE_BLOCKS` blocks or more, the 1M-triangle mesh
+//! among them, with their single-ray walks interleaved).
 //!
 //! Rays: camera rays through a `side`² grid; from each camera hit, a bounce ray in a cosine-
 //! distributed direction (incoherent) and a shadow ray to a random point of the ceiling light
 //! (for `--scene`: of the scene's bounds). Load and build times are wall-clock minima over
 //! `--repeat` runs; ray times are minima of the thread's CPU time (steadier on a shared machine).
 
-use ophis::accel::{Accel, Bvh, Isa};
+use ophis::accel::{Accel, Bvh, Isa, RayColumns};
 use ophis::math::{warp, Frame, Pcg32, Ray, Transform, Vec2, Vec3};
 use ophis::scene::build::{load_scene, LoadOptions};
 use ophis::shape::{Hit, MeshOptions, Shape, TriangleMesh};
@@ -117,23 +119,38 @@ fn trace_rays(bvh: &Bvh, shapes: &[Shape], rays: &[Ray], any: bool) -> u64 {
     sum
 }
 
-/// [`trace_rays`] in batches of 1024 rays, as the wavefront integrator traces them
-/// (`Bvh::intersect_n`, `Bvh::occluded_n`); the same checksum.
+/// [`trace_rays`] in batches of 1024 rays, as the wavefront integrator traces them: as
+/// columns (`Bvh::intersect_raw_columns`, `Bvh::occluded_columns`); the same checksum.
 fn trace_batches(bvh: &Bvh, shapes: &[Shape], rays: &[Ray], any: bool) -> u64 {
     let mut sum = 0u64;
     let mut hits = vec![None; 1024];
     let mut blocked = vec![false; 1024];
+    let mut cols = [(); 7].map(|_| vec![0.0f32; 1024]);
     for chunk in rays.chunks(1024) {
         let n = chunk.len();
+        for (i, r) in chunk.iter().enumerate() {
+            let v = [r.o.x, r.o.y, r.o.z, r.d.x, r.d.y, r.d.z, r.t_max];
+            for (c, x) in cols.iter_mut().zip(v) {
+                c[i] = x;
+            }
+        }
+        let columns = RayColumns {
+            o: [&cols[0][..n], &cols[1][..n], &cols[2][..n]],
+            d: [&cols[3][..n], &cols[4][..n], &cols[5][..n]],
+            t_max: &cols[6][..n],
+            n,
+        };
         if any {
-            bvh.occluded_n(shapes, chunk, &mut blocked[..n]);
+            bvh.occluded_columns(shapes, &columns, &mut blocked[..n]);
             for &b in &blocked[..n] {
                 sum = sum.wrapping_mul(3).wrapping_add(b as u64);
             }
         } else {
-            bvh.intersect_n(shapes, chunk, &mut hits[..n]);
+            bvh.intersect_raw_columns(shapes, &columns, &mut hits[..n]);
             for h in &hits[..n] {
-                sum = sum.wrapping_mul(3).wrapping_add(hash_hit(h));
+                sum = sum
+                    .wrapping_mul(3)
+                    .wrapping_add(hash_hit(&h.map(|h| h.hit)));
             }
         }
     }
