@@ -17,6 +17,12 @@
 //! closest hit is the first in (parameter, id) order ([`Best`]) whatever order the walks run
 //! in, so the answers are the ray-by-ray traversal's, bit for bit.
 //!
+//! Measured on the 1M-triangle Cornell mesh (`bench/ab.py`, one thread): the render 1.13×
+//! as fast; a walk's turn costs about what it costs on a 10k-triangle mesh that fits in
+//! cache. Running a ray's walks as they come in the queue rather than one after another made
+//! 14 % more node visits. Below [`crate::accel::bvh::INTERLEAVE_BLOCKS`] the queueing is not
+//! done: on the Cornell box's spheres it cost 9 %.
+//!
 //! [`traverse`]: crate::accel::traverse
 use crate::accel::block::{widen, Best, RayLanes};
 use crate::accel::simd::Vec8;
