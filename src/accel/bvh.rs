@@ -185,9 +185,9 @@ impl Bvh {
         self.packets = on;
     }
 
-    /// Makes the closest-hit column queries interleave their single-ray walks (`true`) or
-    /// run each at once; by default they do on trees of [`INTERLEAVE_BLOCKS`] blocks or more.
-    /// Both give the same hits.
+    /// Makes the column queries ([`Bvh::intersect_raw_columns`], [`Bvh::occluded_columns`])
+    /// interleave their single-ray walks (`true`) or run each at once; by default they do on
+    /// trees of [`INTERLEAVE_BLOCKS`] blocks or more. Both give the same answers.
     pub fn set_interleave(&mut self, on: bool) {
         self.interleave = on;
     }

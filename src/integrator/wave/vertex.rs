@@ -26,6 +26,7 @@ use crate::math::ray::{spawn_origin, spawn_to};
 use crate::sampler::{Sampler, SamplerKind};
 use crate::scene::Scene;
 use crate::shape::area_to_solid_angle_lanes;
+pub(super) use crate::simd::lanes;
 use crate::simd::{Float, Int, Mask, V3};
 use crate::spectrum::rgb2spec::sigmoid_poly_lanes;
 use crate::spectrum::SampledSpectrum;
@@ -120,8 +121,6 @@ pub(super) fn is_black<F: Float>(s: &Spec<F>) -> F::M {
 pub(super) fn is_finite<F: Float>(s: &Spec<F>) -> F::M {
     s[0].is_finite() & s[1].is_finite() & s[2].is_finite() & s[3].is_finite()
 }
-
-pub(super) use crate::simd::lanes;
 
 /// Next sampler value of each lane in `m` (others 0): the independent sampler's PCG32 in
 /// lanes, the others lane by lane.
