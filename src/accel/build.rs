@@ -453,9 +453,10 @@ fn split(refs: &mut [Ref], sp: &Span, mode: Mode) -> Option<(Span, Span)> {
     let inf = Vec4::splat(f32::INFINITY);
     let (mut lclo, mut lchi, mut rclo, mut rchi) = (inf, -inf, inf, -inf);
     let mut i = 0usize;
+    let plane_f = plane as f32;
     for j in 0..n {
         let c = refs[j].c2();
-        let left = binner.bin(c, axis) < plane;
+        let left = binner.below(c, axis, plane_f);
         let m = BVec4A::splat(left);
         lclo = Vec4::select(m, lclo.min(c), lclo);
         lchi = Vec4::select(m, lchi.max(c), lchi);
