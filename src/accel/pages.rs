@@ -19,16 +19,18 @@
 /// Size of a huge page (x86-64 and most Linux configurations).
 const HUGE: usize = 2 << 20;
 
-/// A vector of `n` copies of `value` whose memory was advised to use huge pages before it was
-/// written (see the module notes). `OPHIS_HUGE_PAGES=0` in the environment skips the advice.
-pub fn filled<T: Clone>(n: usize, value: T) -> Vec<T> {
-    let mut v: Vec<T> = Vec::with_capacity(n);
+/// An empty vector with room for `n` values whose memory was advised to use huge pages before
+/// anything was written to it (see the module notes), for the caller to fill, in parallel
+/// (rayon's `collect_into_vec` writes in place when the capacity suffices): the pages are then
+/// first touched, and cleared by the kernel, on all threads rather than on one.
+/// `OPHIS_HUGE_PAGES=0` in the environment skips the advice.
+pub fn with_capacity<T>(n: usize) -> Vec<T> {
+    let v: Vec<T> = Vec::with_capacity(n);
     if let Some((start, len)) = interior(v.as_ptr() as usize, n * std::mem::size_of::<T>()) {
         if std::env::var_os("OPHIS_HUGE_PAGES").is_none_or(|s| s != "0") {
             advise(start, len);
         }
     }
-    v.resize(n, value);
     v
 }
 
@@ -76,12 +78,21 @@ mod tests {
     }
 
     #[test]
-    fn filled_holds_the_values_whatever_the_size() {
+    fn with_capacity_holds_the_values_whatever_the_size() {
+        use rayon::prelude::*;
         for n in [0, 1, 1000, (3 * HUGE) / 160 + 7] {
-            let v = filled(n, [7u32; 40]);
+            let mut v = with_capacity::<[u32; 40]>(n);
+            assert!(v.is_empty() && v.capacity() >= n);
+            let at = v.as_ptr();
+            (0..n)
+                .into_par_iter()
+                .map(|i| [i as u32; 40])
+                .collect_into_vec(&mut v);
             assert_eq!(v.len(), n);
-            assert!(v.iter().all(|b| *b == [7u32; 40]));
+            // Filled in place, in the advised buffer.
+            assert!(n == 0 || v.as_ptr() == at);
+            assert!(v.iter().enumerate().all(|(i, b)| *b == [i as u32; 40]));
         }
-        assert_eq!(filled(5, ()).len(), 5);
+        assert!(with_capacity::<()>(5).is_empty());
     }
 }

@@ -91,10 +91,37 @@ pub(crate) fn read_file(path: &Path) -> Result<Vec<u8>, LoadError> {
             path: path.to_path_buf(),
         });
     }
-    std::fs::read(path).map_err(|source| LoadError::Io {
+    read_in_parts(path, READ_PART).map_err(|source| LoadError::Io {
         path: path.to_path_buf(),
         source,
     })
+}
+
+/// Parts in which [`read_file`] reads a file of more than one part on all threads.
+const READ_PART: usize = 4 << 20;
+
+/// The file at `path`, read in parts of `part` bytes on all threads where it has more than
+/// one (on Unix): each thread copies its parts out of the page cache into a buffer whose pages
+/// it is the first to touch, so the kernel's copying and page clearing are shared out (one
+/// thread spent ~40 ms on the 24 MB PLY file of the 1M-triangle mesh). The file is read up to
+/// the length it had when opened.
+fn read_in_parts(path: &Path, part: usize) -> std::io::Result<Vec<u8>> {
+    #[cfg(unix)]
+    {
+        use rayon::prelude::*;
+        use std::os::unix::fs::FileExt;
+        let file = std::fs::File::open(path)?;
+        let len = usize::try_from(file.metadata()?.len()).unwrap_or(usize::MAX);
+        if len > part && part > 0 {
+            // Zeroed by the allocator's fresh pages, not by a pass over them.
+            let mut buf = vec![0u8; len];
+            buf.par_chunks_mut(part)
+                .enumerate()
+                .try_for_each(|(i, chunk)| file.read_exact_at(chunk, (i * part) as u64))?;
+            return Ok(buf);
+        }
+    }
+    std::fs::read(path)
 }
 
 /// Options of Mitsuba's `obj` and `ply` shapes.
@@ -302,6 +329,25 @@ pub(crate) fn mesh_file(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn files_read_in_parts_are_read_whole() {
+        let dir = std::env::temp_dir().join(format!("ophis-parts-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("f.bin");
+        let data: Vec<u8> = (0..100_003u32)
+            .map(|i| (i.wrapping_mul(2_654_435_761) >> 13) as u8)
+            .collect();
+        std::fs::write(&path, &data).unwrap();
+        // Parts that divide the file, that do not, one part, and larger than the file.
+        for part in [1000, 4096, 33_333, 100_003, 1 << 20] {
+            assert_eq!(read_in_parts(&path, part).unwrap(), data, "parts of {part}");
+        }
+        assert!(read_in_parts(&dir.join("missing"), 1000).is_err());
+        std::fs::write(&path, b"").unwrap();
+        assert!(read_in_parts(&path, 1000).unwrap().is_empty());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 
     #[test]
     fn smooth_normals_are_the_same_on_any_number_of_threads() {

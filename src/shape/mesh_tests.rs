@@ -235,3 +235,67 @@ fn sampling_integrates_to_the_rectangle_solid_angle() {
     );
     assert!(want < 2.0 * PI as f64);
 }
+
+#[test]
+fn large_meshes_are_checked_and_measured_as_one_by_one() {
+    // A mesh past the parallel threshold, with degenerate triangles scattered through it and
+    // a mirroring placement (corner order swapped): the kept triangles, their order, the area
+    // (summed in triangle order) and the bounds are those of a plain serial pass, on 1 and 3
+    // threads; a bad index or value is reported at its first occurrence.
+    let mut rng = Pcg32::new(5, 9);
+    let nv = 30_000u32;
+    let p: Vec<Vec3> = (0..nv)
+        .map(|_| Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 10.0 - 5.0)
+        .collect();
+    let mut tris: Vec<[u32; 3]> = (0..70_000)
+        .map(|_| [0; 3].map(|_| (rng.next_f32() * nv as f32) as u32 % nv))
+        .collect();
+    for i in (0..tris.len()).step_by(97) {
+        tris[i][1] = tris[i][0];
+    }
+    let to_world = Transform::scale(Vec3::new(-2.0, 1.0, 1.0)).unwrap();
+    let build = |threads: usize, tris: Vec<[u32; 3]>, p: Vec<Vec3>| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| TriangleMesh::new(p, None, None, tris, &to_world, false, false))
+    };
+    // The serial reference.
+    let wp: Vec<Vec3> = p.iter().map(|&q| to_world.point(q)).collect();
+    let (mut kept, mut total, mut bounds) = (Vec::new(), 0.0f64, Bounds3::EMPTY);
+    for t in &tris {
+        let t = [t[0], t[2], t[1]];
+        let [a, b, c] = t.map(|k| wp[k as usize]);
+        let area: f32 = 0.5 * (b - a).cross(c - a).length();
+        if area > 0.0 && area.is_finite() {
+            kept.push(t);
+            total += area as f64;
+            for q in [a, b, c] {
+                bounds.grow(q);
+            }
+        }
+    }
+    for threads in [1, 3] {
+        let m = build(threads, tris.clone(), p.clone()).unwrap();
+        assert_eq!(m.triangle_count(), kept.len());
+        assert_eq!(m.degenerate_dropped(), tris.len() - kept.len());
+        assert!((0..kept.len()).all(|i| m.triangle(i as u32) == kept[i]));
+        assert_eq!(m.area().to_bits(), (total as f32).to_bits());
+        assert_eq!(m.bounds(), bounds);
+    }
+    let mut bad = tris.clone();
+    bad[40_000][2] = nv + 3;
+    bad[50_000][0] = nv;
+    assert!(matches!(
+        build(3, bad, p.clone()),
+        Err(MeshError::IndexOutOfRange { triangle: 40_000, index, .. }) if index == nv + 3
+    ));
+    let mut q = p.clone();
+    q[20_000].y = f32::NAN;
+    q[25_000].x = f32::INFINITY;
+    assert!(matches!(
+        build(3, tris, q),
+        Err(MeshError::NonFinite(20_000))
+    ));
+}
