@@ -69,39 +69,42 @@ impl Ref {
 
 /// Refs for every primitive with finite, non-empty bounds. Triangles get their global id (mesh
 /// triangles counted in shape order, `first[s]` for the first of shape `s`), analytic shapes
-/// [`ANALYTIC`] | their shape index. Filled in place in parallel (no second copy of the array).
+/// [`ANALYTIC`] | their shape index. Written in place in parallel (no second copy of the array).
 pub fn refs(shapes: &[Shape], first: &[u32]) -> Vec<Ref> {
     // A ref with empty bounds marks a primitive left out.
     let none = Ref {
         lo: Vec4::INFINITY,
         hi: Vec4::NEG_INFINITY,
     };
-    let mut out = vec![none; shapes.iter().map(Shape::prim_count).sum()];
-    let mut rest = &mut out[..];
+    let mut out = Vec::with_capacity(shapes.iter().map(Shape::prim_count).sum());
     for (s, shape) in shapes.iter().enumerate() {
-        let (mine, tail) = rest.split_at_mut(shape.prim_count());
-        rest = tail;
-        let fill = |(p, r): (usize, &mut Ref)| {
+        let make = |p: usize| {
             let b = shape.prim_bounds(p as u32);
             if b.is_empty() || !b.min.is_finite() || !b.max.is_finite() {
-                return;
+                return none;
             }
             let id = match shape {
                 Shape::Mesh(_) => first[s] + p as u32,
                 _ => ANALYTIC | s as u32,
             };
-            *r = Ref {
+            Ref {
                 lo: b.min.extend(f32::from_bits(id)),
                 hi: b.max.extend(0.0),
-            };
+            }
         };
-        if mine.len() >= PARALLEL_MIN {
-            mine.par_iter_mut().enumerate().for_each(fill);
+        let n = shape.prim_count();
+        // Written in place by all threads (rayon extends a vector with an indexed iterator in
+        // its spare room), so the array's fresh pages are first touched on all of them.
+        if n >= PARALLEL_MIN {
+            out.par_extend((0..n).into_par_iter().map(make));
         } else {
-            mine.iter_mut().enumerate().for_each(fill);
+            out.extend((0..n).map(make));
         }
     }
-    out.retain(|r| r.lo.x <= r.hi.x);
+    let kept = |r: &Ref| r.lo.x <= r.hi.x;
+    if !out.par_iter().all(kept) {
+        out.retain(kept);
+    }
     out
 }
 
@@ -590,7 +593,7 @@ fn halves(refs: &[Ref], sp: &Span, mid: usize) -> (Span, Span) {
 /// The lane ids of the refs in their current order (for filling blocks after the refs are
 /// freed).
 pub fn ids(refs: &[Ref]) -> Vec<u32> {
-    refs.iter().map(Ref::id).collect()
+    refs.par_iter().map(Ref::id).collect()
 }
 
 #[cfg(test)]

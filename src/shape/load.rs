@@ -188,10 +188,13 @@ impl TriangleMesh {
 /// range check.)
 pub(crate) fn smooth_normals(positions: &[Vec3], indices: &[[u32; 3]]) -> Vec<Vec3> {
     use rayon::prelude::*;
-    let mut out = vec![Vec3::X; positions.len()];
-    if out.is_empty() {
-        return out;
+    if positions.is_empty() {
+        return Vec::new();
     }
+    // Written by all threads (their pages first touched on all of them); every value is
+    // overwritten below.
+    let mut out = Vec::with_capacity(positions.len());
+    out.par_extend(rayon::iter::repeat_n(Vec3::X, positions.len()));
     // Small meshes on the calling thread: one range.
     let ranges = if indices.len() < 1 << 14 {
         1
