@@ -23,63 +23,30 @@ pub(super) fn blocks(n: u32) -> f32 {
     n.div_ceil(4) as f32
 }
 
-/// Per axis and bin: bounds and primitive count. The count rides in the w lane of the upper
-/// bound, as integer bits (a ref's `hi.w` is 0, so the max keeps it): one read-modify-write of
-/// memory per axis fewer for every ref binned than a count array of its own.
+/// Per axis and bin: primitive count and bounds.
 #[derive(Clone, Copy)]
 pub(super) struct Bins {
+    pub(super) n: [[u32; BINS]; 3],
     pub(super) lo: [[Vec4; BINS]; 3],
     pub(super) hi: [[Vec4; BINS]; 3],
 }
 
 impl Bins {
     pub(super) const EMPTY: Bins = Bins {
+        n: [[0; BINS]; 3],
         lo: [[Vec4::INFINITY; BINS]; 3],
-        hi: [[Vec4::new(f32::NEG_INFINITY, f32::NEG_INFINITY, f32::NEG_INFINITY, 0.0); BINS]; 3],
+        hi: [[Vec4::NEG_INFINITY; BINS]; 3],
     };
-
-    /// The refs in bin `b` along axis `a`.
-    #[inline(always)]
-    pub(super) fn count(&self, a: usize, b: usize) -> u32 {
-        self.hi[a][b].w.to_bits()
-    }
 
     pub(super) fn merge(mut self, o: &Bins) -> Bins {
         for a in 0..3 {
             for b in 0..BINS {
-                let n = self.count(a, b) + o.count(a, b);
+                self.n[a][b] += o.n[a][b];
                 self.lo[a][b] = self.lo[a][b].min(o.lo[a][b]);
                 self.hi[a][b] = self.hi[a][b].max(o.hi[a][b]);
-                self.hi[a][b].w = f32::from_bits(n);
             }
         }
         self
-    }
-}
-
-/// `v` with one added to the integer bits of its w lane.
-#[inline(always)]
-fn count_one(v: Vec4) -> Vec4 {
-    #[cfg(target_arch = "x86_64")]
-    {
-        use std::arch::x86_64::{
-            __m128, _mm_add_epi32, _mm_castps_si128, _mm_castsi128_ps, _mm_set_epi32,
-        };
-        let m: __m128 = v.into();
-        // SAFETY: SSE2 is part of x86-64.
-        unsafe {
-            _mm_castsi128_ps(_mm_add_epi32(
-                _mm_castps_si128(m),
-                _mm_set_epi32(1, 0, 0, 0),
-            ))
-            .into()
-        }
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    {
-        let mut v = v;
-        v.w = f32::from_bits(v.w.to_bits() + 1);
-        v
     }
 }
 
@@ -99,17 +66,6 @@ impl Binner {
         let x = (c2 - self.clo) * self.scale;
         // NaN (an overflowing centroid) goes to bin 0; the clamp makes the conversion exact.
         let x = Vec4::select(x.cmpgt(Vec4::ZERO), x, Vec4::ZERO).min(self.last);
-        #[cfg(target_arch = "x86_64")]
-        let [x, y, z, _] = {
-            use std::arch::x86_64::{__m128, _mm_cvttps_epi32, _mm_storeu_si128};
-            let mut b = [0u32; 4];
-            let m: __m128 = x.into();
-            // SAFETY: SSE2 is part of x86-64; `b` has room for four lanes. The lanes are in
-            // [0, nb − 1], so truncation is exact, as the scalar conversion's.
-            unsafe { _mm_storeu_si128(b.as_mut_ptr().cast(), _mm_cvttps_epi32(m)) };
-            b
-        };
-        #[cfg(not(target_arch = "x86_64"))]
         // SAFETY: each value is finite and in [0, nb − 1].
         let [x, y, z, _] = x.to_array().map(|v| unsafe { v.to_int_unchecked::<u32>() });
         // In [0, nb − 1] already; the mask tells the compiler so (no bounds checks).
@@ -132,8 +88,9 @@ impl Binner {
     pub(super) fn fill(&self, refs: &[Ref], bins: &mut Bins) {
         let add = |bins: &mut Bins, r: &Ref| {
             for (a, b) in self.bins(r.c2()).into_iter().enumerate() {
+                bins.n[a][b] += 1;
                 bins.lo[a][b] = bins.lo[a][b].min(r.lo);
-                bins.hi[a][b] = count_one(bins.hi[a][b].max(r.hi));
+                bins.hi[a][b] = bins.hi[a][b].max(r.hi);
             }
         };
         if refs.len() < 256 {
@@ -163,7 +120,7 @@ pub(super) fn best_plane(bins: &Bins, axis: usize, nb: usize, n: usize) -> (f32,
     for i in (1..nb).rev() {
         lo = lo.min(bins.lo[axis][i]);
         hi = hi.max(bins.hi[axis][i]);
-        cnt += bins.count(axis, i);
+        cnt += bins.n[axis][i];
         right[i] = area(lo, hi) * blocks(cnt);
     }
     let (mut lo, mut hi, mut cnt) = (inf, -inf, 0);
@@ -171,7 +128,7 @@ pub(super) fn best_plane(bins: &Bins, axis: usize, nb: usize, n: usize) -> (f32,
     for (i, right) in right.iter().enumerate().take(nb).skip(1) {
         lo = lo.min(bins.lo[axis][i - 1]);
         hi = hi.max(bins.hi[axis][i - 1]);
-        cnt += bins.count(axis, i - 1);
+        cnt += bins.n[axis][i - 1];
         if cnt == 0 || cnt as usize == n {
             continue;
         }

@@ -52,6 +52,7 @@ pub mod isa;
 pub mod layout;
 pub mod packet;
 mod pages;
+mod partition;
 pub mod simd;
 pub mod traverse;
 pub mod wide;
