@@ -4,9 +4,10 @@
 //! split by the binned surface-area heuristic (Wald, "On fast Construction of SAH-based Bounding
 //! Volume Hierarchies", 2007; 16 bins per axis over centroids) into two; an 8-wide node then
 //! keeps splitting its child with the largest surface area until it has eight (the greedy
-//! collapse of a binary SAH tree, without building the binary tree). The cost model counts
-//! leaf primitives in blocks of four ([`super::block`]): a leaf of five costs as much as one of
-//! eight, which steers leaves towards full blocks. A split that starts a new node is charged
+//! collapse of a binary SAH tree, without building the binary tree), a child the cost model
+//! made a leaf included if splitting it lowers its own cost by [`FREE_SPLIT_GAIN`]. The cost
+//! model counts leaf primitives in blocks of four ([`super::block`]): a leaf of five costs as
+//! much as one of eight, which steers leaves towards full blocks. A split that starts a new node is charged
 //! the whole node test (`NODE_COST`), not one lane's share: a range of 9–16 primitives then
 //! becomes one leaf of up to four blocks rather than a node with two leaves in its eight lanes
 //! (on the 1M-triangle benchmark mesh, 47 % of the nodes had been such nodes).
@@ -40,7 +41,8 @@ const SPLIT_COST: f32 = 0.35;
 /// Cost of a range's first split, which makes a node of its own: the whole node test (the
 /// seven binary splits an 8-wide node stands for), however few of its lanes end up used.
 const NODE_COST: f32 = 7.0 * SPLIT_COST;
-/// A split into a node's free lanes must bring the cost below this fraction of the leaf's.
+/// A leaf is split into more of its node's lanes only if that brings its cost below this
+/// fraction of the leaf's (the lane's box test comes with the node's, at no extra cost).
 const FREE_SPLIT_GAIN: f32 = 0.7;
 /// Below this many refs a subtree is built on the current thread.
 const PARALLEL_MIN: usize = 4096;
@@ -240,7 +242,7 @@ fn subtree(refs: &mut [Ref], base: usize, span: Span, out: &mut Nodes) -> Slot {
 enum Kid {
     /// Not yet considered for splitting.
     Open,
-    /// The cost model made it a leaf; a split into free lanes may still pay.
+    /// The cost model made it a leaf; a split into another lane may still pay.
     Leaf,
     /// A leaf for good.
     Final,
@@ -253,24 +255,22 @@ fn wide_node(refs: &mut [Ref], base: usize, l: Span, r: Span, out: &mut Nodes) -
     kids.push((l, Kid::Open));
     kids.push((r, Kid::Open));
     while kids.len() < 8 {
-        // Open the largest open kid; once none is left, lanes are free, so split the largest
-        // leaf too if that alone lowers its cost (an empty lane costs nothing to test).
-        let pick = |state: Kid| {
-            (0..kids.len())
-                .filter(|&i| kids[i].1 == state)
-                .max_by(|&a, &b| {
-                    kids[a]
-                        .0
-                        .area()
-                        .total_cmp(&kids[b].0.area())
-                        .then(b.cmp(&a))
-                })
-        };
-        let (i, free) = match (pick(Kid::Open), pick(Kid::Leaf)) {
-            (Some(i), _) => (i, false),
-            (None, Some(i)) => (i, true),
-            (None, None) => break,
-        };
+        // Split the largest kid that may still be split: an open one as the cost model
+        // decides, a leaf only if that alone lowers its cost (the new lane's box test comes
+        // with the node's; see `Mode::Free`). A large leaf comes before smaller
+        // open kids: in the Cornell room two walls made one leaf whose box was the whole
+        // room, tested by every ray, while the lanes went to the mesh.
+        let pick = (0..kids.len())
+            .filter(|&i| kids[i].1 != Kid::Final)
+            .max_by(|&a, &b| {
+                kids[a]
+                    .0
+                    .area()
+                    .total_cmp(&kids[b].0.area())
+                    .then(b.cmp(&a))
+            });
+        let Some(i) = pick else { break };
+        let free = kids[i].1 == Kid::Leaf;
         let k = kids[i].0;
         let local = k.start - base;
         let mode = if free { Mode::Free } else { Mode::Lane };
@@ -375,7 +375,8 @@ enum Mode {
     Node,
     /// The range is a kid of a node being gathered: a split takes one more of its lanes.
     Lane,
-    /// As `Lane`, into lanes that are free anyway.
+    /// A kid the cost model made a leaf, split into another lane of its node (whose box
+    /// test comes with the node's): only if the split lowers its cost by [`FREE_SPLIT_GAIN`].
     Free,
 }
 
@@ -439,8 +440,8 @@ fn split(refs: &mut [Ref], sp: &Span, mode: Mode) -> Option<(Span, Span)> {
         }
     }
     let (cost, axis, plane) = best;
-    // A split into free lanes costs no traversal step, but more, emptier blocks: take it only
-    // when it clearly pays.
+    // A leaf's split into another lane costs no traversal step, but more, emptier blocks:
+    // take it only when it clearly pays.
     let split_cost = match mode {
         Mode::Lane => SPLIT_COST + cost / sp.area().max(f32::MIN_POSITIVE),
         Mode::Node => NODE_COST + cost / sp.area().max(f32::MIN_POSITIVE),

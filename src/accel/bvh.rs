@@ -369,3 +369,89 @@ impl Accel for Bvh {
         isa::any(self.isa, self.view(), shapes, ray)
     }
 }
+
+#[cfg(test)]
+mod gather_tests {
+    use super::*;
+    use crate::accel::wide::{leaf_range, EMPTY_CHILD, LEAF};
+    use crate::math::{Transform, Vec3};
+    use crate::shape::TriangleMesh;
+
+    /// The boxes of every leaf below `c` holding a primitive with id below `walls`.
+    fn wall_leaves(b: &Bvh, c: u32, walls: u32, out: &mut Vec<(Vec3, Vec3)>, lo: Vec3, hi: Vec3) {
+        if c & LEAF != 0 {
+            let (f, n) = leaf_range(c);
+            if b.blocks[f..f + n]
+                .iter()
+                .any(|bl| bl.ids().iter().any(|&id| id < walls))
+            {
+                out.push((lo, hi));
+            }
+            return;
+        }
+        let node = &b.nodes[c as usize];
+        for lane in 0..8 {
+            if node.child[lane] != EMPTY_CHILD {
+                let (lo, hi) = node.bounds(lane);
+                wall_leaves(b, node.child[lane], walls, out, lo, hi);
+            }
+        }
+    }
+
+    /// The Cornell room (five walls and a light just below the ceiling, two triangles each)
+    /// around a dense mesh: each wall's leaf is flat, none holds two walls at an angle, whose
+    /// box would be the whole room and entered by every ray (the node's lanes had gone to the
+    /// mesh instead).
+    #[test]
+    fn room_walls_get_leaves_of_their_own() {
+        let rot = |axis: Vec3, deg: f32| Transform::rotate(axis, deg).unwrap();
+        let walls = [
+            Transform::translate(Vec3::new(0.0, -1.0, 0.0)).compose(&rot(Vec3::X, -90.0)),
+            Transform::translate(Vec3::new(0.0, 1.0, 0.0)).compose(&rot(Vec3::X, 90.0)),
+            Transform::translate(Vec3::new(0.0, 0.0, -1.0)),
+            Transform::translate(Vec3::new(-1.0, 0.0, 0.0)).compose(&rot(Vec3::Y, 90.0)),
+            Transform::translate(Vec3::new(1.0, 0.0, 0.0)).compose(&rot(Vec3::Y, -90.0)),
+            Transform::translate(Vec3::new(0.0, 0.99, 0.0))
+                .compose(&rot(Vec3::X, 90.0))
+                .compose(&Transform::scale(Vec3::new(0.25, 0.25, 1.0)).unwrap()),
+        ];
+        let mut shapes: Vec<Shape> = walls
+            .iter()
+            .map(|t| Shape::Mesh(TriangleMesh::rectangle(t, false).unwrap()))
+            .collect();
+        // A wavy sheet of 20,000 triangles standing in the lower middle of the room.
+        let k = 100u32;
+        let mut p = Vec::new();
+        for j in 0..=k {
+            for i in 0..=k {
+                let (x, y) = (i as f32 / k as f32, j as f32 / k as f32);
+                let z = 0.1 * (20.0 * x).sin() * (17.0 * y).cos();
+                p.push(Vec3::new(x - 0.5, 0.8 * y - 0.95, z));
+            }
+        }
+        let mut idx = Vec::new();
+        for j in 0..k {
+            for i in 0..k {
+                let a = j * (k + 1) + i;
+                idx.push([a, a + 1, a + k + 2]);
+                idx.push([a, a + k + 2, a + k + 1]);
+            }
+        }
+        let t = Transform::IDENTITY;
+        shapes.push(Shape::Mesh(
+            TriangleMesh::new(p, None, None, idx, &t, false, false).unwrap(),
+        ));
+        let bvh = Bvh::build(&shapes);
+        let mut leaves = Vec::new();
+        wall_leaves(&bvh, bvh.root, 12, &mut leaves, Vec3::ZERO, Vec3::ZERO);
+        assert!(leaves.len() >= 5, "{leaves:?}");
+        for (lo, hi) in leaves {
+            let e = hi - lo;
+            // The ceiling and the light 0.01 below it may share a leaf.
+            assert!(
+                e.min_element() <= 0.0101,
+                "a wall leaf spans {lo:?} .. {hi:?}"
+            );
+        }
+    }
+}
