@@ -127,9 +127,11 @@ pub(super) fn sample_lights<F: Float>(
         // [`crate::light::AreaLight::sample_li`]).
         let lm = F::M::from_bits(in_lanes);
         let light = F::I::load(light);
-        let tv =
-            |k: usize| V3::<F>::new(F::load(&tri[k]), F::load(&tri[k + 1]), F::load(&tri[k + 2]));
-        let (p0, p1, p2) = (tv(0), tv(3), tv(6));
+        let (p0, p1, p2) = (
+            corner::<F>(tri, 0),
+            corner::<F>(tri, 3),
+            corner::<F>(tri, 6),
+        );
         let (b0, b1) = uniform_triangle(F::load(ux), u1);
         let b2 = F::splat(1.0) - b0 - b1;
         let pos = p0 * b0 + p1 * b1 + p2 * b2;
@@ -153,4 +155,12 @@ pub(super) fn sample_lights<F: Float>(
         out.p_light = V3::select(lm, pos, out.p_light);
     }
     out
+}
+
+/// The corner whose x, y and z lanes are the tables `tri[k..k + 3]`. (A function, not a
+/// closure: a closure is compiled without the caller's instruction set, and its lane loads
+/// become calls.)
+#[inline(always)]
+fn corner<F: Float>(tri: &[[f32; 16]], k: usize) -> V3<F> {
+    V3::new(F::load(&tri[k]), F::load(&tri[k + 1]), F::load(&tri[k + 2]))
 }
