@@ -98,6 +98,9 @@ impl SpectrumTable {
 /// The scene's tables; see the module header.
 #[derive(Debug)]
 pub struct Program {
+    /// A number no other program made by this process has: the threads keep their path pools
+    /// from tile to tile of one render, and only of one ([`super::Buffers`]).
+    pub(super) id: u64,
     /// Per shape: 1 when hits on it are shaded in lanes.
     pub(super) shape_lanes: Vec<u32>,
     /// Per shape: 1 for a triangle mesh (its interaction is computed in lanes).
@@ -207,7 +210,9 @@ impl Program {
             .shapes
             .iter()
             .any(|s| matches!(s, Shape::Mesh(m) if m.triangle_count() >= super::surface::BIG_MESH));
+        static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
         Program {
+            id: NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed),
             shape_lanes,
             shape_mesh,
             big_meshes,
