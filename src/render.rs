@@ -6,6 +6,12 @@
 //! sample count, so the film's sums are bit-identical whatever the number of threads. An
 //! adaptive render ([`adaptive`]) keeps this: its per-pixel counts are fixed once, from the
 //! pilot's sums, and each pass takes a fixed range of every pixel's samples.
+//!
+//! Small images (fewer than [`SPLIT_BELOW`] tiles) render each tile's pass in quarters, so
+//! that every thread has work until the pass ends; the first quarter of a tile to start
+//! decides for all four whether the tile's pass runs (a cancelled render still finishes the
+//! tiles it began), and checkpoints wait until no tile is half added, so a stopped film's
+//! tiles each hold whole passes, as resuming and `ophis merge` expect.
 
 pub mod adaptive;
 
@@ -17,7 +23,7 @@ use crate::scene::Scene;
 use crate::spectrum::SampledWavelengths;
 use adaptive::Adaptive;
 use rayon::prelude::*;
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, AtomicU8, Ordering};
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
@@ -236,7 +242,11 @@ pub fn render_with(
     let done = AtomicU64::new(0);
     let stop = AtomicBool::new(false);
     let mut stopped_early = false;
-    let shared = Mutex::new((film, Instant::now()));
+    // The film, when the last checkpoint was written, how many tiles are half added, and
+    // whether a checkpoint fell due while some were.
+    let shared = Mutex::new((film, Instant::now(), 0usize, false));
+    // Small images: a tile's pass in quarters, so that each thread has several to take.
+    let split = tiles.len() < SPLIT_BELOW;
 
     for (s0, s1) in schedule(start_spp, spp, pilot) {
         let (todo, plan): (Vec<((u32, u32), u32)>, _) = {
@@ -261,19 +271,41 @@ pub fn render_with(
         };
         let in_pilot = pilot.is_some_and(|p| s1 <= p);
         let missed = AtomicBool::new(false);
-        todo.par_iter().for_each(|&((x0, y0), from)| {
-            if ctl.cancel.load(Ordering::Relaxed) || stop.load(Ordering::Relaxed) {
+        let units = work_units(scene, &todo, split);
+        // Per tile of `todo`: whether its pass was begun (1) or given up (2), by the first of
+        // its units to start, and how many of its units are still to be added.
+        let state: Vec<AtomicU8> = todo.iter().map(|_| AtomicU8::new(0)).collect();
+        let mut count = vec![0u8; todo.len()];
+        for u in &units {
+            count[u.tile] += 1;
+        }
+        let left: Vec<AtomicU8> = count.iter().map(|&c| AtomicU8::new(c)).collect();
+        units.par_iter().for_each(|u| {
+            let mut quit = ctl.cancel.load(Ordering::Relaxed) || stop.load(Ordering::Relaxed);
+            if let Some(limit) = opts.time_limit {
+                if !quit && t0.elapsed() >= limit {
+                    stop.store(true, Ordering::Relaxed);
+                    quit = true;
+                }
+            }
+            // A tile's units all run or none does, so every tile's pixels hold the same passes
+            // whenever the render stops (what resuming and merging rely on).
+            let want = if quit { 2 } else { 1 };
+            let fate = match state[u.tile].compare_exchange(
+                0,
+                want,
+                Ordering::AcqRel,
+                Ordering::Acquire,
+            ) {
+                Ok(_) => want,
+                Err(v) => v,
+            };
+            if fate == 2 {
                 missed.store(true, Ordering::Relaxed);
                 return;
             }
-            if let Some(limit) = opts.time_limit {
-                if t0.elapsed() >= limit {
-                    stop.store(true, Ordering::Relaxed);
-                    missed.store(true, Ordering::Relaxed);
-                    return;
-                }
-            }
-            let (x1, y1) = tile_extent(scene, x0, y0);
+            let ((x0, y0), (x1, y1)) = (u.corner, u.far);
+            let from = u.from;
             let ranges: Vec<(u32, u32)> = (y0..y1)
                 .flat_map(|y| (x0..x1).map(move |x| (y * w + x) as usize))
                 .map(|i| match &plan {
@@ -292,15 +324,41 @@ pub fn render_with(
             let d = done.fetch_add(n, Ordering::Relaxed) + n;
             ctl.progress.update(d, total);
             let mut g = shared.lock().unwrap_or_else(|e| e.into_inner());
-            add_tile(g.0, x0, y0, &acc, s1, in_pilot);
-            add_aov_tile(g.0, x0, y0, &aov);
+            add_tile(g.0, u.corner, u.far, &acc, s1, in_pilot);
+            add_aov_tile(g.0, u.corner, u.far, &aov);
+            // Under the lock: the count of tiles with some but not all units added.
+            let before = left[u.tile].fetch_sub(1, Ordering::Relaxed);
+            let all = count[u.tile];
+            if before == all && all > 1 {
+                g.2 += 1;
+            }
+            if before == 1 && all > 1 {
+                g.2 -= 1;
+            }
+            // A checkpoint only while no tile is half added (a resumed render takes up each
+            // tile where all its pixels stand).
             if let Some((every, write)) = ctl.checkpoint {
                 if g.1.elapsed() >= every {
-                    write(g.0);
-                    g.1 = Instant::now();
+                    if g.2 == 0 {
+                        write(g.0);
+                        g.1 = Instant::now();
+                        g.3 = false;
+                    } else {
+                        g.3 = true;
+                    }
                 }
             }
         });
+        // Between passes no tile is half added: write the checkpoint that fell due while some
+        // were.
+        if let Some((_, write)) = ctl.checkpoint {
+            let mut g = shared.lock().unwrap_or_else(|e| e.into_inner());
+            if g.3 {
+                write(g.0);
+                g.1 = Instant::now();
+                g.3 = false;
+            }
+        }
         if missed.load(Ordering::Relaxed) {
             stopped_early = true;
             break;
@@ -358,8 +416,52 @@ pub fn cpu_seconds(clock: CpuClock) -> f64 {
     f64::NAN
 }
 
-fn tile_extent(scene: &Scene, x0: u32, y0: u32) -> (u32, u32) {
-    ((x0 + TILE).min(scene.width), (y0 + TILE).min(scene.height))
+/// Images of fewer tiles than this have each tile's passes rendered in quarters
+/// ([`work_units`]): a 96×96 image has nine tiles, and two threads taking them in turn leave
+/// one of them idle for a tile at the end of every pass (10 % of such a render). A function of
+/// the image size alone, so that a render resumed on another number of threads cuts its
+/// passes the same way.
+const SPLIT_BELOW: usize = 64;
+
+/// A piece of a tile's pass: the pixels from `corner` to `far` (exclusive) of tile `tile` of
+/// the pass's list, from sample `from` on.
+struct Unit {
+    tile: usize,
+    corner: (u32, u32),
+    far: (u32, u32),
+    from: u32,
+}
+
+/// The pieces the pass's tiles `todo` are rendered in: each tile whole, or with `split` its
+/// quarters (those holding pixels), in tile order.
+fn work_units(scene: &Scene, todo: &[((u32, u32), u32)], split: bool) -> Vec<Unit> {
+    let mut out = Vec::with_capacity(todo.len() * if split { 4 } else { 1 });
+    for (tile, &((x0, y0), from)) in todo.iter().enumerate() {
+        let (x1, y1) = ((x0 + TILE).min(scene.width), (y0 + TILE).min(scene.height));
+        if !split {
+            out.push(Unit {
+                tile,
+                corner: (x0, y0),
+                far: (x1, y1),
+                from,
+            });
+            continue;
+        }
+        let half = TILE / 2;
+        for (qy0, qy1) in [(y0, (y0 + half).min(y1)), ((y0 + half).min(y1), y1)] {
+            for (qx0, qx1) in [(x0, (x0 + half).min(x1)), ((x0 + half).min(x1), x1)] {
+                if qx0 < qx1 && qy0 < qy1 {
+                    out.push(Unit {
+                        tile,
+                        corner: (qx0, qy0),
+                        far: (qx1, qy1),
+                        from,
+                    });
+                }
+            }
+        }
+    }
+    out
 }
 
 /// Renders the samples `ranges` (one range of sample indices per pixel, row-major) of the
@@ -440,14 +542,13 @@ fn prepare_aovs(scene: &Scene, film: &mut Film) {
     }
 }
 
-/// Adds a tile's AOV sums (see [`render_tile`]).
-fn add_aov_tile(film: &mut Film, x0: u32, y0: u32, sums: &[f64]) {
+/// Adds the AOV sums (see [`render_tile`]) of the pixels from `(x0, y0)` to `(x1, y1)`
+/// (exclusive).
+fn add_aov_tile(film: &mut Film, (x0, y0): (u32, u32), (x1, y1): (u32, u32), sums: &[f64]) {
     let n = film.aov_names.len();
     if n == 0 {
         return;
     }
-    let x1 = (x0 + TILE).min(film.width);
-    let y1 = (y0 + TILE).min(film.height);
     let row = ((x1 - x0) as usize) * n;
     for (k, y) in (y0..y1).enumerate() {
         let at = ((y * film.width + x0) as usize) * n;
@@ -461,11 +562,17 @@ fn add_aov_tile(film: &mut Film, x0: u32, y0: u32, sums: &[f64]) {
 /// render's pilot keeps).
 pub type TileSums = [f64; 5];
 
-/// Adds a tile's sums for the pass ending at (nominal) sample `s1`; `in_pilot` says the pass
-/// is part of an adaptive render's pilot.
-fn add_tile(film: &mut Film, x0: u32, y0: u32, acc: &[TileSums], s1: u32, in_pilot: bool) {
-    let x1 = (x0 + TILE).min(film.width);
-    let y1 = (y0 + TILE).min(film.height);
+/// Adds the sums of the pixels from `(x0, y0)` to `(x1, y1)` (exclusive: a tile or a piece
+/// of one) for the pass ending at (nominal) sample `s1`; `in_pilot` says the pass is part of
+/// an adaptive render's pilot.
+fn add_tile(
+    film: &mut Film,
+    (x0, y0): (u32, u32),
+    (x1, y1): (u32, u32),
+    acc: &[TileSums],
+    s1: u32,
+    in_pilot: bool,
+) {
     let mut sums = acc.iter();
     for y in y0..y1 {
         for x in x0..x1 {

@@ -254,3 +254,86 @@ fn interrupted_saved_and_resumed_render_equals_uninterrupted() {
     assert!(bits(&resumed) == bits(&whole), "resumed render differs");
     let _ = std::fs::remove_dir_all(state_path.parent().unwrap());
 }
+
+/// Whether every 32 × 32 tile of `f` holds one sample count in all its pixels.
+fn tiles_uniform(f: &Film) -> bool {
+    let t = ophis::render::TILE;
+    (0..f.height.div_ceil(t)).all(|ty| {
+        (0..f.width.div_ceil(t)).all(|tx| {
+            let first = f.pixels[(ty * t * f.width + tx * t) as usize][3];
+            (ty * t..((ty + 1) * t).min(f.height)).all(|y| {
+                (tx * t..((tx + 1) * t).min(f.width))
+                    .all(|x| f.pixels[(y * f.width + x) as usize][3] == first)
+            })
+        })
+    })
+}
+
+/// Cancels a render once `after` pieces of tiles are done (progress reports one per piece).
+struct CancelAfter<'a> {
+    cancel: &'a AtomicBool,
+    seen: AtomicUsize,
+    after: usize,
+}
+
+impl ophis::render::Progress for CancelAfter<'_> {
+    fn update(&self, _: u64, _: u64) {
+        if self.seen.fetch_add(1, Ordering::SeqCst) + 1 == self.after {
+            self.cancel.store(true, Ordering::SeqCst);
+        }
+    }
+}
+
+/// The reference scene's six tiles are few, so each tile's passes are rendered in quarters by
+/// three threads at once; a render cancelled mid-pass must still leave every tile whole
+/// (all its pixels at the same pass), both in the film it returns and in every checkpoint,
+/// and each resumes bit for bit.
+#[test]
+fn renders_of_tiles_in_quarters_stop_and_checkpoint_on_whole_tiles() {
+    let spp = 20;
+    let scene = reference_scene(spp);
+    let mut whole = Film::new(scene.width, scene.height);
+    run(&scene, &mut whole, spp, TileOrder::RowMajor, 2);
+    // 5 passes of 6 tiles in 15 pieces: stop in the first, third and fifth pass.
+    for stop_after in [5, 37, 70] {
+        let cancel = AtomicBool::new(false);
+        let progress = CancelAfter {
+            cancel: &cancel,
+            seen: AtomicUsize::new(0),
+            after: stop_after,
+        };
+        let saved = std::sync::Mutex::new(Vec::new());
+        let save = |f: &Film| {
+            assert!(tiles_uniform(f), "a checkpoint with a half-added tile");
+            saved.lock().unwrap().push(f.clone());
+        };
+        let ctl = RenderControl {
+            cancel: &cancel,
+            progress: &progress,
+            checkpoint: Some((Duration::ZERO, &save)),
+            tile_order: TileOrder::Shuffled(stop_after as u64),
+        };
+        let mut part = Film::new(scene.width, scene.height);
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(3)
+            .build()
+            .unwrap();
+        let stats = pool.install(|| render_with(&scene, &mut part, 0, &opts(spp), &ctl));
+        assert!(stats.stopped_early, "stop after {stop_after}");
+        assert!(
+            tiles_uniform(&part),
+            "stop after {stop_after}: a half-rendered tile"
+        );
+        let mut films = saved.into_inner().unwrap();
+        assert!(!films.is_empty());
+        films.push(part);
+        for f in films {
+            let mut resumed = f;
+            run(&scene, &mut resumed, spp, TileOrder::Reversed, 2);
+            assert!(
+                bits(&resumed) == bits(&whole),
+                "stop after {stop_after}: resumed differs"
+            );
+        }
+    }
+}
