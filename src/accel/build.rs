@@ -7,10 +7,10 @@
 //! collapse of a binary SAH tree, without building the binary tree), a child the cost model
 //! made a leaf included if splitting it lowers its own cost by [`FREE_SPLIT_GAIN`]. The cost
 //! model counts leaf primitives in blocks of four ([`super::block`]): a leaf of five costs as
-//! much as one of eight, which steers leaves towards full blocks. A split that starts a new node is charged
-//! the whole node test (`NODE_COST`), not one lane's share: a range of 9–16 primitives then
-//! becomes one leaf of up to four blocks rather than a node with two leaves in its eight lanes
-//! (on the 1M-triangle benchmark mesh, 47 % of the nodes had been such nodes).
+//! much as one of eight, which steers leaves towards full blocks. A split that starts a new
+//! node is charged the whole node test (`NODE_COST`), not one lane's share: a range of 9–16
+//! primitives then becomes one leaf of up to four blocks rather than a node with two leaves in
+//! its eight lanes (on the 1M-triangle benchmark mesh, 47 % of the nodes had been such nodes).
 //!
 //! Past binary depth [`MEDIAN_DEPTH`] ranges split at the object median, which bounds the depth
 //! (and so the traversal stack) even for adversarial inputs. Leaves hold at most [`MAX_LEAF`]
