@@ -14,6 +14,7 @@
 //! tiles each hold whole passes, as resuming and `ophis merge` expect.
 
 pub mod adaptive;
+mod units;
 
 use crate::film::{spectrum_to_xyz, Film};
 use crate::integrator::{aov, radiance, wave, PathStrategy};
@@ -23,9 +24,10 @@ use crate::scene::Scene;
 use crate::spectrum::SampledWavelengths;
 use adaptive::Adaptive;
 use rayon::prelude::*;
-use std::sync::atomic::{AtomicBool, AtomicU64, AtomicU8, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
+use units::{work_units, Book, SPLIT_BELOW};
 
 /// Tile edge in pixels.
 pub const TILE: u32 = 32;
@@ -272,14 +274,7 @@ pub fn render_with(
         let in_pilot = pilot.is_some_and(|p| s1 <= p);
         let missed = AtomicBool::new(false);
         let units = work_units(scene, &todo, split);
-        // Per tile of `todo`: whether its pass was begun (1) or given up (2), by the first of
-        // its units to start, and how many of its units are still to be added.
-        let state: Vec<AtomicU8> = todo.iter().map(|_| AtomicU8::new(0)).collect();
-        let mut count = vec![0u8; todo.len()];
-        for u in &units {
-            count[u.tile] += 1;
-        }
-        let left: Vec<AtomicU8> = count.iter().map(|&c| AtomicU8::new(c)).collect();
+        let book = Book::new(todo.len(), &units);
         units.par_iter().for_each(|u| {
             let mut quit = ctl.cancel.load(Ordering::Relaxed) || stop.load(Ordering::Relaxed);
             if let Some(limit) = opts.time_limit {
@@ -288,19 +283,7 @@ pub fn render_with(
                     quit = true;
                 }
             }
-            // A tile's units all run or none does, so every tile's pixels hold the same passes
-            // whenever the render stops (what resuming and merging rely on).
-            let want = if quit { 2 } else { 1 };
-            let fate = match state[u.tile].compare_exchange(
-                0,
-                want,
-                Ordering::AcqRel,
-                Ordering::Acquire,
-            ) {
-                Ok(_) => want,
-                Err(v) => v,
-            };
-            if fate == 2 {
+            if !book.start(u.tile, quit) {
                 missed.store(true, Ordering::Relaxed);
                 return;
             }
@@ -327,14 +310,7 @@ pub fn render_with(
             add_tile(g.0, u.corner, u.far, &acc, s1, in_pilot);
             add_aov_tile(g.0, u.corner, u.far, &aov);
             // Under the lock: the count of tiles with some but not all units added.
-            let before = left[u.tile].fetch_sub(1, Ordering::Relaxed);
-            let all = count[u.tile];
-            if before == all && all > 1 {
-                g.2 += 1;
-            }
-            if before == 1 && all > 1 {
-                g.2 -= 1;
-            }
+            g.2 = g.2.wrapping_add_signed(book.added(u.tile));
             // A checkpoint only while no tile is half added (a resumed render takes up each
             // tile where all its pixels stand).
             if let Some((every, write)) = ctl.checkpoint {
@@ -414,56 +390,6 @@ pub fn cpu_seconds(clock: CpuClock) -> f64 {
     }
     let _ = clock;
     f64::NAN
-}
-
-/// Images of fewer tiles than this have each tile's passes rendered in quarters
-/// ([`work_units`]): a 96×96 image has nine tiles, and two threads taking them in turn leave
-/// one of them idle for a tile at the end of every pass (the thin-film sphere at 96²: 1.055×
-/// as fast in quarters). At 256² (64 tiles) the Cornell box gained 2 % and the 1M-triangle
-/// mesh nothing; at 640×360 (240 tiles) the built-in scene nothing. A function of the image
-/// size alone, so that a render resumed on another number of threads cuts its passes the same
-/// way.
-const SPLIT_BELOW: usize = 128;
-
-/// A piece of a tile's pass: the pixels from `corner` to `far` (exclusive) of tile `tile` of
-/// the pass's list, from sample `from` on.
-struct Unit {
-    tile: usize,
-    corner: (u32, u32),
-    far: (u32, u32),
-    from: u32,
-}
-
-/// The pieces the pass's tiles `todo` are rendered in: each tile whole, or with `split` its
-/// quarters (those holding pixels), in tile order.
-fn work_units(scene: &Scene, todo: &[((u32, u32), u32)], split: bool) -> Vec<Unit> {
-    let mut out = Vec::with_capacity(todo.len() * if split { 4 } else { 1 });
-    for (tile, &((x0, y0), from)) in todo.iter().enumerate() {
-        let (x1, y1) = ((x0 + TILE).min(scene.width), (y0 + TILE).min(scene.height));
-        if !split {
-            out.push(Unit {
-                tile,
-                corner: (x0, y0),
-                far: (x1, y1),
-                from,
-            });
-            continue;
-        }
-        let half = TILE / 2;
-        for (qy0, qy1) in [(y0, (y0 + half).min(y1)), ((y0 + half).min(y1), y1)] {
-            for (qx0, qx1) in [(x0, (x0 + half).min(x1)), ((x0 + half).min(x1), x1)] {
-                if qx0 < qx1 && qy0 < qy1 {
-                    out.push(Unit {
-                        tile,
-                        corner: (qx0, qy0),
-                        far: (qx1, qy1),
-                        from,
-                    });
-                }
-            }
-        }
-    }
-    out
 }
 
 /// Renders the samples `ranges` (one range of sample indices per pixel, row-major) of the

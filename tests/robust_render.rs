@@ -66,11 +66,15 @@ fn run(scene: &Scene, film: &mut Film, spp: u32, order: TileOrder, threads: usiz
         checkpoint: None,
         tile_order: order,
     };
-    let pool = rayon::ThreadPoolBuilder::new()
+    pool(threads).install(|| render_with(scene, film, 0, &opts(spp), &ctl));
+}
+
+/// A rayon pool of `threads` threads.
+fn pool(threads: usize) -> rayon::ThreadPool {
+    rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
-        .unwrap();
-    pool.install(|| render_with(scene, film, 0, &opts(spp), &ctl));
+        .unwrap()
 }
 
 fn bits(f: &Film) -> Vec<u64> {
@@ -179,11 +183,7 @@ fn interrupt(scene: &Scene, spp: u32, stop_after: usize, name: &str) -> (Film, P
         tile_order: TileOrder::Shuffled(9),
     };
     let mut part = Film::new(scene.width, scene.height);
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(1)
-        .build()
-        .unwrap();
-    let stats = pool.install(|| render_with(scene, &mut part, 0, &opts(spp), &ctl));
+    let stats = pool(1).install(|| render_with(scene, &mut part, 0, &opts(spp), &ctl));
     assert!(stats.stopped_early);
     (part, state_path, info)
 }
@@ -314,11 +314,7 @@ fn renders_of_tiles_in_quarters_stop_and_checkpoint_on_whole_tiles() {
             tile_order: TileOrder::Shuffled(stop_after as u64),
         };
         let mut part = Film::new(scene.width, scene.height);
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(3)
-            .build()
-            .unwrap();
-        let stats = pool.install(|| render_with(&scene, &mut part, 0, &opts(spp), &ctl));
+        let stats = pool(3).install(|| render_with(&scene, &mut part, 0, &opts(spp), &ctl));
         assert!(stats.stopped_early, "stop after {stop_after}");
         assert!(
             tiles_uniform(&part),
