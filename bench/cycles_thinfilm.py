@@ -28,7 +28,9 @@ ophis runs in several configurations (--ophis sampler:top[:rough_coat],...), eac
 against the same Cycles runs: its two samplers (`independent`; `stratified`, which like
 `ldsampler` and `sobol` is Owen-scrambled Sobol in ophis) and three coats: the scene's
 `roughthinfilm` (α = 0.05, the same material as Cycles') layered exactly by a random walk
-(`walk`) or in closed form by the plastic approximation (`plastic`: microfacet reflection plus
+(`walk`; `mixture`: the same walk, its directions sampled from a mixture of the coat's
+reflection lobe and a cosine lobe and weighed by the walk's BSDF value, one reference for both)
+or in closed form by the plastic approximation (`plastic`: microfacet reflection plus
 a diffuse part through the smooth coat's transmittance, the kind of model Cycles' Principled
 BSDF is; `multilayered`'s `rough_coat`), and the smooth `thinfilm` (α = 0: a slightly different
 material, for which the layered stack has an exact closed form). ophis's references are
@@ -273,9 +275,11 @@ def renderers(a):
             sys.exit("--ophis: %r is not sampler:top or sampler:top:rough_coat" % c)
         sampler, top = parts[:2]
         coat = parts[2] if len(parts) == 3 else "walk"
+        # The walk's two samplings render the same image: one reference (the walk's).
+        ref_coat = "walk" if coat == "mixture" else coat
         out["ophis " + c] = ((lambda spp, seed, path, s=sampler, t=top, k=coat:
                               run_ophis(spp, seed, path, a, s, t, k)),
-                             "ophis-%s-%s" % (top, coat))
+                             "ophis-%s-%s" % (top, ref_coat))
     if not a.no_cycles:
         out["cycles"] = ((lambda spp, seed, path: run_cycles(spp, seed, path, a)), "cycles")
     return out
@@ -290,11 +294,12 @@ def main():
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--eps", type=float, default=1e-2)
     ap.add_argument("--ophis", default="independent:roughthinfilm,stratified:roughthinfilm,"
-                    "stratified:roughthinfilm:plastic,stratified:thinfilm",
+                    "stratified:roughthinfilm:mixture,stratified:roughthinfilm:plastic,"
+                    "stratified:thinfilm",
                     help="ophis configurations, sampler:top[:rough_coat], comma-separated "
                     "(samplers: `independent`, or `stratified`/`ldsampler`/`sobol`, all "
                     "Owen-scrambled Sobol; tops: `roughthinfilm`, the scene's, or the smooth "
-                    "`thinfilm`; rough_coat: `walk`, the default, or `plastic`)")
+                    "`thinfilm`; rough_coat: `walk`, the default, `mixture` or `plastic`)")
     ap.add_argument("-D", dest="define", action="append", default=[],
                     help="extra scene parameter for ophis, name=value")
     ap.add_argument("--sun", type=float, help="the sun's irradiance, W/m² (default 2; 0: none)")

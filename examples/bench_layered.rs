@@ -6,7 +6,7 @@
 //! `cargo run --release --example bench_layered`
 
 use ophis::bsdf::layered::closed_form::{CoatOptics, CoatedDiffuse};
-use ophis::bsdf::layered::{LayeredBxdf, LayeredModel, Medium, DEFAULT_MAX_DEPTH};
+use ophis::bsdf::layered::{CoatModel, LayeredBxdf, LayeredModel, Medium, DEFAULT_MAX_DEPTH};
 use ophis::bsdf::{diffuse::DiffuseBxdf, Bxdf, TransportMode};
 use ophis::math::{Pcg32, Vec3};
 use ophis::spectrum::SampledSpectrum;
@@ -39,7 +39,7 @@ fn main() {
                 &media,
                 DEFAULT_MAX_DEPTH,
                 closed,
-                false,
+                CoatModel::Walk,
                 1,
             )
             .unwrap(),

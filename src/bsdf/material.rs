@@ -8,7 +8,7 @@ use super::absorption::AbsorptionBxdf;
 use super::diffuse::DiffuseBxdf;
 use super::film::FilmSpec;
 use super::fresnel::{DielectricFresnel, ThinSheetFresnel};
-use super::layered::{LayeredBxdf, Medium, MAX_INTERFACES};
+use super::layered::{CoatModel, LayeredBxdf, Medium, MAX_INTERFACES};
 use super::microfacet::{MicrofacetDistribution, MicrofacetType};
 use super::params::conductor_fresnel;
 use super::plastic::PlasticBxdf;
@@ -164,8 +164,8 @@ pub enum Material {
         media: Vec<LayerMedium>,
         max_depth: u32,
         closed_form: bool,
-        /// `rough_coat` = `plastic`: a rough coat over a diffuse base in closed form.
-        rough_plastic: bool,
+        /// `rough_coat`: how a rough coat over a diffuse base is rendered.
+        rough_coat: CoatModel,
     },
     /// `absorption` (see [`super::absorption`]).
     Absorption {
@@ -268,7 +268,7 @@ impl Material {
                 media,
                 max_depth,
                 closed_form,
-                rough_plastic,
+                rough_coat,
             } => {
                 let layer = |i: usize, m: &Material| m.bxdf(tc, wl, true, seed ^ (i as u64 + 1));
                 let med: [Medium; MAX_INTERFACES - 1] =
@@ -281,7 +281,7 @@ impl Material {
                         None => Medium::absorbing(SampledSpectrum::ZERO),
                     });
                 let med = &med[..media.len().min(MAX_INTERFACES - 1)];
-                let (cf, rp) = (*closed_form, *rough_plastic);
+                let (cf, rp) = (*closed_form, *rough_coat);
                 let stack = if let [top, base] = &surfaces[..] {
                     // Two layers, the closed form's case: evaluated in place and read by
                     // reference (see `bxdf`'s note on copies).

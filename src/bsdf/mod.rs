@@ -191,6 +191,43 @@ pub enum Bxdf {
     Black,
 }
 
+/// A microfacet interface seen as a coat ([`Bxdf::microfacet_coat`]): its reflection lobe alone.
+#[derive(Clone, Copy)]
+pub enum MicrofacetCoat<'a> {
+    Dielectric(&'a Rough<DielectricFresnel>),
+    Film(&'a Rough<FilmFresnel>),
+    Stack(&'a Rough<StackFresnel>),
+}
+
+impl MicrofacetCoat<'_> {
+    /// See [`Rough::sample_reflection`].
+    pub fn sample_reflection(self, wo: Vec3, u: Vec2) -> Option<Vec3> {
+        match self {
+            MicrofacetCoat::Dielectric(b) => b.sample_reflection(wo, u),
+            MicrofacetCoat::Film(b) => b.sample_reflection(wo, u),
+            MicrofacetCoat::Stack(b) => b.sample_reflection(wo, u),
+        }
+    }
+
+    /// See [`Rough::reflection_pdf`].
+    pub fn reflection_pdf(self, wo: Vec3, wi: Vec3) -> f32 {
+        match self {
+            MicrofacetCoat::Dielectric(b) => b.reflection_pdf(wo, wi),
+            MicrofacetCoat::Film(b) => b.reflection_pdf(wo, wi),
+            MicrofacetCoat::Stack(b) => b.reflection_pdf(wo, wi),
+        }
+    }
+
+    /// See [`Rough::reflect_prob`].
+    pub fn reflect_prob(self, cos: f32) -> f32 {
+        match self {
+            MicrofacetCoat::Dielectric(b) => b.reflect_prob(cos),
+            MicrofacetCoat::Film(b) => b.reflect_prob(cos),
+            MicrofacetCoat::Stack(b) => b.reflect_prob(cos),
+        }
+    }
+}
+
 /// The BxDFs made only of delta lobes (a smooth surface over any Fresnel term), as a pattern:
 /// they have no value to evaluate and no density for another technique to find.
 macro_rules! smooth {
@@ -277,7 +314,9 @@ impl Bxdf {
             | Bxdf::RoughFilmStack(_)
             | Bxdf::Plastic(_) => true,
             Bxdf::Diffuse(_) => other_lights,
-            Bxdf::Layered(b) => matches!(b.model, layered::LayeredModel::Closed(_)),
+            Bxdf::Layered(b) => {
+                matches!(b.model, layered::LayeredModel::Closed(_)) || b.mixture_sampled()
+            }
             _ => false,
         }
     }
@@ -353,6 +392,17 @@ impl Bxdf {
             _ => return (self.pdf(wo, wi, mode), None),
         };
         (pdf, Some(p))
+    }
+
+    /// A microfacet interface (dielectric, film or film stack) as a coat, `None` for the other
+    /// BSDFs.
+    pub fn microfacet_coat(&self) -> Option<MicrofacetCoat<'_>> {
+        match self {
+            Bxdf::RoughDielectric(b) => Some(MicrofacetCoat::Dielectric(b)),
+            Bxdf::RoughThinFilm(b) => Some(MicrofacetCoat::Film(b)),
+            Bxdf::RoughFilmStack(b) => Some(MicrofacetCoat::Stack(b)),
+            _ => None,
+        }
     }
 
     /// The relative index a transmissive microfacet interface refracts into (`None` for the

@@ -105,6 +105,30 @@ impl<F: Fresnel> Rough<F> {
         }
     }
 
+    /// Its reflection alone, for a mixture density ([`super::layered`]): `wo` reflected about a
+    /// visible microfacet normal drawn with `u`, if that stays above the surface.
+    pub(crate) fn sample_reflection(&self, wo: Vec3, u: Vec2) -> Option<Vec3> {
+        if !(wo.z > 0.0) {
+            return None;
+        }
+        let wi = reflect(wo, self.distrib.sample_wm(wo, u));
+        (wi.z > 0.0).then_some(wi)
+    }
+
+    /// The density of [`Rough::sample_reflection`] (0 outside the upper hemisphere).
+    pub(crate) fn reflection_pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+        match reflection_half(wo, wi) {
+            Some(wm) => self.distrib.pdf(wo, wm) / (4.0 * wo.dot(wm)),
+            None => 0.0,
+        }
+    }
+
+    /// The probability the surface itself gives reflection at a macro-normal incidence of
+    /// cosine `cos` (averaged over the wavelengths).
+    pub(crate) fn reflect_prob(&self, cos: f32) -> f32 {
+        self.fresnel.reflectance(cos).1
+    }
+
     /// Lobe flags.
     pub fn flags(&self) -> BxdfFlags {
         match self.eta() {

@@ -9,7 +9,7 @@ use crate::bsdf::microfacet::{MicrofacetDistribution, MicrofacetType};
 use crate::bsdf::testing::{self, direction, Chi2Config, Estimate};
 use crate::math::Pcg32;
 
-fn rough_coat(alpha: f32) -> Bxdf {
+pub(super) fn rough_coat(alpha: f32) -> Bxdf {
     Bxdf::rough_dielectric(
         MicrofacetDistribution::new(MicrofacetType::Ggx, alpha, alpha),
         1.5,
@@ -19,7 +19,7 @@ fn rough_coat(alpha: f32) -> Bxdf {
 }
 
 /// A rough coat over a clear layer (optical depth `tau`) over a Lambertian base of albedo `rho`.
-fn stack(alpha: f32, tau: f32, rho: f32) -> Stack {
+pub(super) fn stack(alpha: f32, tau: f32, rho: f32) -> Stack {
     Stack::new(
         [rough_coat(alpha), base(rho)],
         &[Medium::absorbing(splat(tau))],
@@ -28,7 +28,7 @@ fn stack(alpha: f32, tau: f32, rho: f32) -> Stack {
     .unwrap()
 }
 
-fn layered(s: Stack) -> Bxdf {
+pub(super) fn layered(s: Stack) -> Bxdf {
     Bxdf::Layered(LayeredBxdf {
         model: LayeredModel::Walk(Box::new(s)),
         seed: 3,
@@ -161,7 +161,7 @@ fn dark_based_stack_samples_what_it_evaluates() {
 
 /// The benchmark's coat (bench/thinfilm-sphere.xml): a film of index 1.56 and 500 nm on glass
 /// of index 1.5, GGX roughness `alpha`.
-fn rough_film(alpha: f32) -> Bxdf {
+pub(super) fn rough_film(alpha: f32) -> Bxdf {
     use crate::bsdf::film::{FilmBase, FilmIor, FilmSpec};
     use crate::bsdf::filmfresnel::FilmMode;
     use crate::bsdf::material::{Interface, Roughness, Surface};

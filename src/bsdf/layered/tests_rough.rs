@@ -44,7 +44,11 @@ fn stack(top: Bxdf, tau: f32, rho: f32, plastic: bool) -> Bxdf {
         &media,
         DEFAULT_MAX_DEPTH,
         true,
-        plastic,
+        if plastic {
+            CoatModel::Plastic
+        } else {
+            CoatModel::Walk
+        },
         0,
     )
     .unwrap();

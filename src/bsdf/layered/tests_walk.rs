@@ -14,7 +14,7 @@ fn walk(tau: f32, rho: f32) -> Bxdf {
         &[Medium::absorbing(splat(tau))],
         DEFAULT_MAX_DEPTH,
         false,
-        false,
+        CoatModel::Walk,
         0,
     )
     .unwrap();
@@ -40,7 +40,7 @@ fn rough_scattering() -> Bxdf {
         &[m],
         DEFAULT_MAX_DEPTH,
         true,
-        false,
+        CoatModel::Walk,
         0,
     )
     .unwrap();

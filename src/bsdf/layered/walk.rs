@@ -97,6 +97,9 @@ pub struct Stack {
     max_depth: u32,
     /// Transmission weight of the first choice from above (see [`Stack::entrance_weight`]).
     t_weight: f32,
+    /// Whether the BSDF samples its directions from a mixture density where it can
+    /// (`super::LayeredBxdf::mixture`).
+    mixture: bool,
 }
 
 /// Outcome of a flight across a layer.
@@ -211,6 +214,7 @@ impl Stack {
             n: 0,
             max_depth: max_depth.max(1),
             t_weight: 1.0,
+            mixture: false,
         });
         for b in interfaces {
             if s.n == MAX_INTERFACES {
@@ -232,6 +236,17 @@ impl Stack {
     /// coat over a Lambertian base; any value in (0, 1] keeps the walk unbiased.
     pub(crate) fn entrance_weight(&self) -> f32 {
         self.t_weight
+    }
+
+    /// Whether the BSDF samples from a mixture density where it can (`rough_coat` =
+    /// `mixture`; see `super::LayeredBxdf::mixture`).
+    pub(crate) fn mixture(&self) -> bool {
+        self.mixture
+    }
+
+    /// Sets [`Stack::mixture`].
+    pub(crate) fn set_mixture(&mut self, on: bool) {
+        self.mixture = on;
     }
 
     /// The same stack with another entrance weight (tests compare it against the plain walk).
