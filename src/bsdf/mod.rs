@@ -217,15 +217,6 @@ impl MicrofacetCoat<'_> {
             MicrofacetCoat::Stack(b) => b.reflection_pdf(wo, wi),
         }
     }
-
-    /// See [`Rough::reflect_prob`].
-    pub fn reflect_prob(self, cos: f32) -> f32 {
-        match self {
-            MicrofacetCoat::Dielectric(b) => b.reflect_prob(cos),
-            MicrofacetCoat::Film(b) => b.reflect_prob(cos),
-            MicrofacetCoat::Stack(b) => b.reflect_prob(cos),
-        }
-    }
 }
 
 /// The BxDFs made only of delta lobes (a smooth surface over any Fresnel term), as a pattern:

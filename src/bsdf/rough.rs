@@ -123,12 +123,6 @@ impl<F: Fresnel> Rough<F> {
         }
     }
 
-    /// The probability the surface itself gives reflection at a macro-normal incidence of
-    /// cosine `cos` (averaged over the wavelengths).
-    pub(crate) fn reflect_prob(&self, cos: f32) -> f32 {
-        self.fresnel.reflectance(cos).1
-    }
-
     /// Lobe flags.
     pub fn flags(&self) -> BxdfFlags {
         match self.eta() {

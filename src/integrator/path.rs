@@ -52,8 +52,9 @@
 //! leaving the grey sky to the walk's samples gave 3.3× the noise per sample), unless it
 //! samples from its mixture density (`multilayered`'s `rough_coat` = `mixture`), whose samples
 //! weigh the coat's reflection by its exact value: then it is one of them (on the flagship,
-//! `bench/noise.py` at 320×180, 16 spp, 2 pairs, 2026-12-06, keeping the sky's light samples
-//! for it was 0.89× as fast to equal noise as the walk's own sampling, leaving them out 0.96×).
+//! `bench/noise.py` at 320×180, 16 spp, 2 pairs, 2026-12-06, with the mixture's first version,
+//! keeping the sky's light samples for it was 0.89× as fast to equal noise as the walk's own
+//! sampling, leaving them out 0.96×).
 //!
 //! The sky joined the constant environment in that class in the eleventh session: on the
 //! flagship (`bench/noise.py --spp 64 --repeats 3 --cpu`, 320×180, adaptive, 2026-12-03) the

@@ -43,7 +43,8 @@
 //! - `rough_coat` = `mixture` (the walk, sampled otherwise; where the walk reweights its first
 //!   choice, light from above): `sample_f` draws wi from a mixture density of its own, the
 //!   coat's microfacet reflection with probability q (the walk's first-choice probability at
-//!   the macro-normal, kept within [0.05, 0.95]) and a cosine lobe otherwise, and weighs it by
+//!   the macro-normal with the bare interface's Fresnel term, kept within [0.05, 0.95]) and a
+//!   cosine lobe otherwise, and weighs it by
 //!   the walk's estimate `f(wo, wi)`: unbiased (the density is exact and `f`'s estimate is),
 //!   and the coat's reflection, most of what such a stack returns, then comes from its exact
 //!   value instead of a sampled branch. `pdf` is that density, exactly, so MIS weights are
@@ -51,11 +52,12 @@
 //!   ([`Bxdf::samples_smooth_env`]). An `f` costs more than the walk's own sample (it
 //!   evaluates every interface it meets and connects), so it is an option: on the thin-film
 //!   benchmark sphere (`bench/noise.py bench/thinfilm-sphere.xml`, 96², 64 spp, Sobol, 2
-//!   pairs, 2026-12-06) 1.12–1.20× faster to equal noise over its base of albedo 0.02, 1.98×
-//!   over 0.1, 1.28× over 0.5 (noise per sample 0.0061 → 0.0042, 0.046 → 0.020, 0.19 → 0.13);
-//!   on the flagship's skin (a film over melanin over a grey base, under a sun and sky, with
-//!   the scales' bump map) 0.97× (320×180, 32 spp, 3 pairs, CPU time: noise −7 %, CPU per
-//!   sample +10 %), so the walk's own sampling stays the default.
+//!   pairs, 2026-12-06) 1.27× faster to equal noise over its base of albedo 0.02, 2.18× over
+//!   0.1, 1.32× over 0.5 (noise per sample 0.0061 → 0.0040, 0.046 → 0.019, 0.19 → 0.13); on
+//!   the flagship's skins (a film over melanin over a grey base, under a sun and sky, with the
+//!   scales' bump map; the built-in scene with `rough_coat` set on its three `multilayered`,
+//!   320×180, 32 spp, 3 pairs, CPU time) 0.99× (0.97–1.00: noise −7 %, CPU per sample +9 %), so
+//!   the walk's own sampling stays the default.
 //! - Random numbers: the walk is the one stochastic BSDF, so it is the one that draws random
 //!   numbers. It draws them from a generator seeded by a hash of the seed it was built with
 //!   (one per path vertex, from the integrator) and of the directions it is asked about, so `f`
@@ -83,6 +85,7 @@ mod tests_rough;
 mod tests_walk;
 pub mod walk;
 
+use super::fresnel::fresnel_dielectric;
 use super::rough::weighted_choice;
 use super::{BsdfSample, Bxdf, BxdfFlags, TransportMode};
 use crate::bsdf::filmfresnel::{FilmFresnel, FilmMode};
@@ -465,7 +468,11 @@ impl LayeredBxdf {
         if !s.mixture() || !(wo.z > 0.0) || tw == 1.0 || self.transmits() {
             return None;
         }
-        let p = s.interfaces()[0].microfacet_coat()?.reflect_prob(wo.z);
+        // The bare interface's Fresnel reflectance: the film's own (its Airy sum at four
+        // wavelengths) only moves the choice and cost 8 % of the benchmark sphere's time.
+        let coat = &s.interfaces()[0];
+        coat.microfacet_coat()?;
+        let p = fresnel_dielectric(wo.z, coat.rough_eta()?);
         Some(weighted_choice(p, tw).clamp(MIXTURE_MIN, 1.0 - MIXTURE_MIN))
     }
 

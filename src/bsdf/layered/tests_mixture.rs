@@ -107,9 +107,9 @@ fn mixture_keeps_the_walk_s_expectations_with_less_variance_under_a_sky() {
                 sky(&mixture, wo, 40_000, seed + 1),
             );
             assert!(m.agrees_with(&w, 4.5), "ρ {rho} θ {theta}: {m:?} vs {w:?}");
-            // The mixture's standard error against the walk's, measured with these seeds: 0.31,
-            // 0.40 and 0.93 at θ 0°, 50° and 75° over ρ 0.02; 0.36, 0.39, 0.72 over 0.1; 0.65,
-            // 0.68, 1.04 over 0.5. At grazing incidence the coat's reflection is nearly all of
+            // The mixture's standard error against the walk's, measured with these seeds: 0.36,
+            // 0.39 and 0.93 at θ 0°, 50° and 75° over ρ 0.02; 0.38, 0.38, 0.72 over 0.1; 0.65,
+            // 0.68, 1.03 over 0.5. At grazing incidence the coat's reflection is nearly all of
             // it and both sample it alike (a standard error at this n is itself known to a few
             // per cent).
             let most = if theta < 60.0 { 0.75 } else { 1.15 };
