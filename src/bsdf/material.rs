@@ -281,18 +281,18 @@ impl Material {
                         None => Medium::absorbing(SampledSpectrum::ZERO),
                     });
                 let med = &med[..media.len().min(MAX_INTERFACES - 1)];
-                let (cf, rp) = (*closed_form, *rough_coat);
+                let (cf, coat) = (*closed_form, *rough_coat);
                 let stack = if let [top, base] = &surfaces[..] {
                     // Two layers, the closed form's case: evaluated in place and read by
                     // reference (see `bxdf`'s note on copies).
                     let (top, base) = (layer(0, top), layer(1, base));
-                    match LayeredBxdf::closed(&top, &base, med, cf, rp, seed) {
+                    match LayeredBxdf::closed(&top, &base, med, cf, coat, seed) {
                         Some(l) => Some(l),
-                        None => LayeredBxdf::new([top, base], med, *max_depth, false, rp, seed),
+                        None => LayeredBxdf::new([top, base], med, *max_depth, false, coat, seed),
                     }
                 } else {
                     let ifs = surfaces.iter().enumerate().map(|(i, m)| layer(i, m));
-                    LayeredBxdf::new(ifs, med, *max_depth, cf, rp, seed)
+                    LayeredBxdf::new(ifs, med, *max_depth, cf, coat, seed)
                 };
                 match stack {
                     Some(l) => Bxdf::Layered(l),

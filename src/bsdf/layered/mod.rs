@@ -40,24 +40,9 @@
 //!   with that choice plus the rest of the mass as a cosine lobe; for a stack that transmits,
 //!   half of the mass goes to a cosine lobe below. Exact for the closed form. Any positive
 //!   density gives unbiased MIS; a closer one gives better weights.
-//! - `rough_coat` = `mixture` (the walk, sampled otherwise; where the walk reweights its first
-//!   choice, light from above): `sample_f` draws wi from a mixture density of its own, the
-//!   coat's microfacet reflection with probability q (the walk's first-choice probability at
-//!   the macro-normal with the bare interface's Fresnel term, kept within [0.05, 0.95]) and a
-//!   cosine lobe otherwise, and weighs it by
-//!   the walk's estimate `f(wo, wi)`: unbiased (the density is exact and `f`'s estimate is),
-//!   and the coat's reflection, most of what such a stack returns, then comes from its exact
-//!   value instead of a sampled branch. `pdf` is that density, exactly, so MIS weights are
-//!   exact too, and such a stack counts among the BSDFs whose samples carry a smooth sky
-//!   ([`Bxdf::samples_smooth_env`]). An `f` costs more than the walk's own sample (it
-//!   evaluates every interface it meets and connects), so it is an option: on the thin-film
-//!   benchmark sphere (`bench/noise.py bench/thinfilm-sphere.xml`, 96², 64 spp, Sobol, 2
-//!   pairs, 2026-12-06) 1.27× faster to equal noise over its base of albedo 0.02, 2.18× over
-//!   0.1, 1.32× over 0.5 (noise per sample 0.0061 → 0.0040, 0.046 → 0.019, 0.19 → 0.13); on
-//!   the flagship's skins (a film over melanin over a grey base, under a sun and sky, with the
-//!   scales' bump map; the built-in scene with `rough_coat` set on its three `multilayered`,
-//!   320×180, 32 spp, 3 pairs, CPU time) 0.99× (0.97–1.00: noise −7 %, CPU per sample +9 %), so
-//!   the walk's own sampling stays the default.
+//! - `rough_coat` = `mixture`: the walk, its directions drawn from a mixture density of the
+//!   coat's reflection lobe and a cosine lobe and weighed by its `f`; `pdf` is that density
+//!   (`mixture.rs`).
 //! - Random numbers: the walk is the one stochastic BSDF, so it is the one that draws random
 //!   numbers. It draws them from a generator seeded by a hash of the seed it was built with
 //!   (one per path vertex, from the integrator) and of the directions it is asked about, so `f`
@@ -66,13 +51,11 @@
 //!   a walk's stack is built in one heap allocation per shading point (the closed form in
 //!   none).
 
-/// The least probability of either lobe of the mixture density ([`LayeredBxdf::mixture`]).
-const MIXTURE_MIN: f32 = 0.05;
-
 pub mod closed_form;
 mod coat;
 mod entrance;
 mod integrals;
+mod mixture;
 #[cfg(test)]
 mod tests;
 #[cfg(test)]
@@ -85,14 +68,13 @@ mod tests_rough;
 mod tests_walk;
 pub mod walk;
 
-use super::fresnel::fresnel_dielectric;
-use super::rough::weighted_choice;
 use super::{BsdfSample, Bxdf, BxdfFlags, TransportMode};
 use crate::bsdf::filmfresnel::{FilmFresnel, FilmMode};
 use crate::bsdf::microfacet::MicrofacetDistribution;
 use crate::math::rng::mix64;
 use crate::math::{warp, Pcg32, Vec2, Vec3, INV_PI};
 use closed_form::{CoatOptics, CoatedDiffuse};
+use mixture::Mixture;
 pub use walk::{Medium, Stack, DEFAULT_MAX_DEPTH, MAX_INTERFACES};
 
 use crate::bsdf::material::{LayerMedium, Material};
@@ -254,7 +236,7 @@ fn load(a: &mut Args, _: ()) -> Result<Material, SceneError> {
 pub enum CoatModel {
     /// The random walk, sampled by the walk itself.
     Walk,
-    /// The random walk, sampled from a mixture density ([`LayeredBxdf::mixture`]).
+    /// The random walk, sampled from a mixture density (`mixture.rs`).
     Mixture,
     /// The closed-form approximation ([`CoatedDiffuse::with_rough`]).
     Plastic,
@@ -456,38 +438,12 @@ impl LayeredBxdf {
         }
     }
 
-    /// For light from above on a rough coat over a dark base (where the walk weights its
-    /// first choice, [`walk::Stack::entrance_weight`]), the probability with which `sample_f`
-    /// picks the coat's reflection lobe of its mixture density; `None` elsewhere (see the
-    /// module header).
-    fn mixture(&self, wo: Vec3) -> Option<f32> {
-        let LayeredModel::Walk(s) = &self.model else {
-            return None;
-        };
-        let tw = s.entrance_weight();
-        if !s.mixture() || !(wo.z > 0.0) || tw == 1.0 || self.transmits() {
-            return None;
-        }
-        // The bare interface's Fresnel reflectance: the film's own (its Airy sum at four
-        // wavelengths) only moves the choice and cost 8 % of the benchmark sphere's time.
-        let coat = &s.interfaces()[0];
-        coat.microfacet_coat()?;
-        let p = fresnel_dielectric(wo.z, coat.rough_eta()?);
-        Some(weighted_choice(p, tw).clamp(MIXTURE_MIN, 1.0 - MIXTURE_MIN))
-    }
-
-    /// Whether the walk's samples are drawn from a mixture density (see the module header):
-    /// then, like the closed forms, they carry a smooth environment well
-    /// ([`Bxdf::samples_smooth_env`]).
+    /// Whether the walk's samples are drawn from a mixture density (`mixture.rs`): then, like
+    /// the closed forms', they carry a smooth environment well ([`Bxdf::samples_smooth_env`]).
     pub(crate) fn mixture_sampled(&self) -> bool {
         match &self.model {
             LayeredModel::Closed(_) => false,
-            LayeredModel::Walk(s) => {
-                s.mixture()
-                    && s.entrance_weight() != 1.0
-                    && !self.transmits()
-                    && s.interfaces()[0].microfacet_coat().is_some()
-            }
+            LayeredModel::Walk(s) => Mixture::applies(s, self.transmits()),
         }
     }
 
@@ -518,12 +474,8 @@ impl LayeredBxdf {
                 if wo.z == 0.0 || wi.z == 0.0 {
                     return 0.0;
                 }
-                if let Some(q) = self.mixture(wo) {
-                    let coat = s.interfaces()[0].microfacet_coat().expect("a rough coat");
-                    if !(wi.z > 0.0) {
-                        return 0.0;
-                    }
-                    return q * coat.reflection_pdf(wo, wi) + (1.0 - q) * wi.z * INV_PI;
+                if let Some(m) = Mixture::of(s, wo, self.transmits()) {
+                    return m.pdf(wo, wi);
                 }
                 let t = if self.transmits() { 0.5 } else { 0.0 };
                 let cos = wi.z.abs() * INV_PI;
@@ -565,17 +517,8 @@ impl LayeredBxdf {
         if wo.z == 0.0 {
             return None;
         }
-        if let Some(q) = self.mixture(wo) {
-            let coat = s.interfaces()[0].microfacet_coat().expect("a rough coat");
-            let wi = if uc < q {
-                coat.sample_reflection(wo, u)?
-            } else {
-                warp::square_to_cosine_hemisphere(u)
-            };
-            let pdf = self.pdf(wo, wi, mode);
-            if !(wi.z > 0.0 && pdf > 0.0) {
-                return None;
-            }
+        if let Some(m) = Mixture::of(s, wo, self.transmits()) {
+            let (wi, pdf) = m.sample(wo, uc, u)?;
             return Some(BsdfSample::new(
                 self.f(wo, wi, mode),
                 wi,

@@ -98,7 +98,7 @@ pub struct Stack {
     /// Transmission weight of the first choice from above (see [`Stack::entrance_weight`]).
     t_weight: f32,
     /// Whether the BSDF samples its directions from a mixture density where it can
-    /// (`super::LayeredBxdf::mixture`).
+    /// (`super::mixture`).
     mixture: bool,
 }
 
@@ -239,7 +239,7 @@ impl Stack {
     }
 
     /// Whether the BSDF samples from a mixture density where it can (`rough_coat` =
-    /// `mixture`; see `super::LayeredBxdf::mixture`).
+    /// `mixture`; see `super::mixture`).
     pub(crate) fn mixture(&self) -> bool {
         self.mixture
     }
