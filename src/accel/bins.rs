@@ -66,8 +66,15 @@ impl Binner {
         let x = (c2 - self.clo) * self.scale;
         // NaN (an overflowing centroid) goes to bin 0; the clamp makes the conversion exact.
         let x = Vec4::select(x.cmpgt(Vec4::ZERO), x, Vec4::ZERO).min(self.last);
+        // Each value is finite and in [0, nb − 1]: one truncating conversion of all lanes.
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: SSE2 is part of the x86-64 baseline; the conversion reads and writes only
+        // registers (a [i32; 4] and an __m128i have the same size).
+        let [x, y, z, _]: [i32; 4] =
+            unsafe { std::mem::transmute(std::arch::x86_64::_mm_cvttps_epi32(x.into())) };
+        #[cfg(not(target_arch = "x86_64"))]
         // SAFETY: each value is finite and in [0, nb − 1].
-        let [x, y, z, _] = x.to_array().map(|v| unsafe { v.to_int_unchecked::<u32>() });
+        let [x, y, z, _] = x.to_array().map(|v| unsafe { v.to_int_unchecked::<i32>() });
         // In [0, nb − 1] already; the mask tells the compiler so (no bounds checks).
         [x, y, z].map(|b| b as usize & (BINS - 1))
     }
