@@ -315,7 +315,15 @@ fn renders_of_tiles_in_quarters_stop_and_checkpoint_on_whole_tiles() {
         };
         let mut part = Film::new(scene.width, scene.height);
         let stats = pool(3).install(|| render_with(&scene, &mut part, 0, &opts(spp), &ctl));
-        assert!(stats.stopped_early, "stop after {stop_after}");
+        // Passes run one after another, so a stop within the first four passes leaves the
+        // fifth undone. A stop in the last pass may come after each of its tiles was begun
+        // (each thread takes pieces from its own part of the list, so the last tile is often
+        // begun early), and a begun tile is finished: that render ends complete, as correct
+        // a result; the checks below hold for it too. (`stop after 70` failed this assertion
+        // once in a CI run: a race in the test, not in the render.)
+        if stop_after <= 4 * 15 {
+            assert!(stats.stopped_early, "stop after {stop_after}");
+        }
         assert!(
             tiles_uniform(&part),
             "stop after {stop_after}: a half-rendered tile"
