@@ -10,8 +10,12 @@ use crate::math::{Ray, Vec3};
 use crate::sampler::SamplerState;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 
-/// Most paths in flight per tile.
-pub const POOL: usize = 1024;
+/// Most paths in flight per tile. Fewer rounds of larger batches: against 1024 (interleaved
+/// renders, images bit for bit the same) the Cornell box 1.038× (standard error 0.004), the
+/// 1M-triangle mesh 1.011× (0.004), the smooth-film sphere 1.024× (0.005), the flagship and the
+/// plastic-coated sphere level (1.002×, 0.999×); 4096 gained only 1 % more on the box; 512
+/// lost 2.3 % on the mesh. About 0.5 MB of columns per thread.
+pub const POOL: usize = 2048;
 /// Array length: the pool and a chunk of the widest lanes.
 pub(super) const CAP: usize = POOL + 16;
 
