@@ -10,11 +10,12 @@ use crate::math::{Ray, Vec3};
 use crate::sampler::SamplerState;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 
-/// Most paths in flight per tile. Fewer rounds of larger batches: against 1024 (interleaved
-/// renders, images bit for bit the same) the Cornell box 1.038× (standard error 0.004), the
-/// 1M-triangle mesh 1.011× (0.004), the smooth-film sphere 1.024× (0.005), the flagship and the
-/// plastic-coated sphere level (1.002×, 0.999×); 4096 gained only 1 % more on the box; 512
-/// lost 2.3 % on the mesh. About 0.5 MB of columns per thread.
+/// Most paths in flight per tile. Fewer rounds of larger batches: against 1024
+/// (`bench/ab.py --threads 2 --pairs 8 --spp 64`, images bit for bit the same, CPU time) the
+/// Cornell box 1.035× (standard error 0.005), the 1M-triangle mesh 1.010× (0.003), the
+/// smooth-film sphere 1.034× (0.011), the plastic-coated sphere and the flagship level (1.005×,
+/// 1.001×); 4096 level with 2048 on the box, 512 2.8 % slower on the mesh. About 0.5 MB of
+/// columns per thread.
 pub const POOL: usize = 2048;
 /// Array length: the pool and a chunk of the widest lanes.
 pub(super) const CAP: usize = POOL + 16;
