@@ -80,7 +80,7 @@ macro_rules! variants {
         pub fn $name(isa: Isa, $($arg: $ty),*) -> $ret {
             #[cfg(target_arch = "x86_64")]
             {
-                use super::simd::Avx8;
+                use super::simd::{Avx8, Avx8k};
                 #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
                 fn avx2($($arg: $ty),*) -> $ret {
                     $($body)::+::<Avx8>($($arg),*)
@@ -89,7 +89,7 @@ macro_rules! variants {
                     enable = "avx512f,avx512vl,avx512bw,avx512dq,avx2,fma,bmi1,bmi2,lzcnt,popcnt"
                 )]
                 fn avx512($($arg: $ty),*) -> $ret {
-                    $($body)::+::<Avx8>($($arg),*)
+                    $($body)::+::<Avx8k>($($arg),*)
                 }
                 match isa {
                     // SAFETY: `Bvh` only stores a supported `Isa` (checked in `set_isa` and
@@ -142,7 +142,7 @@ macro_rules! packets {
             assert_eq!(rays.len(), out.len());
             #[cfg(target_arch = "x86_64")]
             {
-                use super::simd::Avx8;
+                use super::simd::{Avx8, Avx8k};
                 use crate::simd::{F16, F8};
                 #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
                 fn avx2(v: View, shapes: &[Shape], rays: &[Ray], out: &mut [$out]) {
@@ -155,7 +155,7 @@ macro_rules! packets {
                 )]
                 fn avx512(v: View, shapes: &[Shape], rays: &[Ray], out: &mut [$out]) {
                     for (r, o) in rays.chunks(16).zip(out.chunks_mut(16)) {
-                        $($body)::+::<F16, Avx8>(v, shapes, r, o);
+                        $($body)::+::<F16, Avx8k>(v, shapes, r, o);
                     }
                 }
                 match isa {
@@ -225,7 +225,7 @@ macro_rules! column_packets {
             #[cfg(target_arch = "x86_64")]
             {
                 use super::packet::RayColumns;
-                use super::simd::Avx8;
+                use super::simd::{Avx8, Avx8k};
                 use crate::simd::{F16, F8};
                 #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
                 fn avx2(v: View, shapes: &[Shape], rays: &RayColumns, out: &mut [$out]) {
@@ -235,7 +235,7 @@ macro_rules! column_packets {
                     enable = "avx512f,avx512vl,avx512bw,avx512dq,avx2,fma,bmi1,bmi2,lzcnt,popcnt"
                 )]
                 fn avx512(v: View, shapes: &[Shape], rays: &RayColumns, out: &mut [$out]) {
-                    $($body)::+::<F16, Avx8>(v, shapes, rays, out);
+                    $($body)::+::<F16, Avx8k>(v, shapes, rays, out);
                 }
                 match isa {
                     // SAFETY: `Bvh` only stores a supported `Isa` (checked in `set_isa` and

@@ -20,8 +20,9 @@ use crate::shape::Shape;
 use std::mem::MaybeUninit;
 
 /// Stack entries: a node visit pushes at most seven, and the tree is at most
-/// `MEDIAN_DEPTH + 33` levels deep (median splits halve a range of < 2³² refs).
-pub const STACK: usize = 7 * (MEDIAN_DEPTH + 34);
+/// `MEDIAN_DEPTH + 33` levels deep (median splits halve a range of < 2³² refs); a visit writes
+/// eight slots above the top ([`Vec8::far_first`]), one more than it keeps.
+pub const STACK: usize = 7 * (MEDIAN_DEPTH + 34) + 1;
 
 /// The arrays a traversal reads.
 #[derive(Clone, Copy)]
@@ -47,6 +48,15 @@ impl View<'_> {
         } else {
             prefetch(self.nodes.as_ptr().wrapping_add(c as usize), 1);
         }
+    }
+}
+
+/// Prefetches the children `mask` of `child`.
+#[inline(always)]
+fn prefetch_hit(v: View, child: &[u32; 8], mut mask: u32) {
+    while mask != 0 {
+        v.prefetch(child[mask.trailing_zeros() as usize]);
+        mask &= mask - 1;
     }
 }
 
@@ -130,7 +140,7 @@ pub(super) fn closest_from<V: Vec8>(
     let mut r = *ray;
     r.t_max = closest.t;
     let mut best = None;
-    let mut stack = [const { MaybeUninit::<(u32, f32)>::uninit() }; STACK];
+    let mut stack = [const { MaybeUninit::<u64>::uninit() }; STACK];
     let mut sp = 0usize;
     let mut cur = start;
     loop {
@@ -150,31 +160,15 @@ pub(super) fn closest_from<V: Vec8>(
             }
         } else {
             let node = &v.nodes[cur as usize];
-            let (near, mut mask) = node.hit(&br.o, &br.inv_d, r.t_max);
-            let near = near.to_array();
+            let (near, mask) = node.hit(&br.o, &br.inv_d, r.t_max);
             if mask != 0 {
-                if mask & (mask - 1) == 0 {
-                    cur = node.child[mask.trailing_zeros() as usize];
-                    continue;
-                }
-                // Sort the children hit by entry distance, far first (t ≥ 0, so its bits order
-                // like the floats); the child reference breaks ties. Their memory is
-                // requested now, so that the loads overlap.
-                let mut keys = [0u64; 8];
-                let mut n = 0;
-                while mask != 0 {
-                    let lane = mask.trailing_zeros() as usize;
-                    mask &= mask - 1;
-                    v.prefetch(node.child[lane]);
-                    let key = ((near[lane].to_bits() as u64) << 32) | node.child[lane] as u64;
-                    insert_far_first(&mut keys, n, key);
-                    n += 1;
-                }
-                for &k in &keys[..n - 1] {
-                    stack[sp].write((k as u32, f32::from_bits((k >> 32) as u32)));
-                    sp += 1;
-                }
-                cur = keys[n - 1] as u32;
+                // The children hit by entry distance, far first, so that the stack pops the
+                // nearest first. Their memory is requested now, so that the loads overlap.
+                prefetch_hit(v, &node.child, mask);
+                // SAFETY: `STACK` leaves room for eight entries above any `sp` reached.
+                let out = unsafe { &mut *(stack.as_mut_ptr().add(sp) as *mut [u64; 8]) };
+                cur = near.far_first(&node.child, mask, out) as u32;
+                sp += mask.count_ones() as usize - 1;
                 continue;
             }
         }
@@ -184,7 +178,8 @@ pub(super) fn closest_from<V: Vec8>(
             }
             sp -= 1;
             // SAFETY: slots below the old `sp` were all written by a push.
-            let (c, t) = unsafe { stack[sp].assume_init() };
+            let k = unsafe { stack[sp].assume_init() };
+            let (c, t) = (k as u32, f32::from_bits((k >> 32) as u32));
             // Widened: a node whose entry rounds just past an equally close hit may still
             // hold a tie (see `Best`).
             if t <= widen(r.t_max) {
@@ -237,16 +232,13 @@ pub(super) fn any_from<V: Vec8>(
             }
         } else {
             let node = &v.nodes[cur as usize];
-            let (_, mut mask) = node.hit(&br.o, &br.inv_d, ray.t_max);
+            let (_, mask) = node.hit(&br.o, &br.inv_d, ray.t_max);
             if mask != 0 {
-                cur = node.child[mask.trailing_zeros() as usize];
-                mask &= mask - 1;
-                while mask != 0 {
-                    v.prefetch(node.child[mask.trailing_zeros() as usize]);
-                    stack[sp].write(node.child[mask.trailing_zeros() as usize]);
-                    sp += 1;
-                    mask &= mask - 1;
-                }
+                prefetch_hit(v, &node.child, mask & (mask - 1));
+                // SAFETY: `STACK` leaves room for eight entries above any `sp` reached.
+                let out = unsafe { &mut *(stack.as_mut_ptr().add(sp) as *mut [u32; 8]) };
+                cur = V::first_and_rest(&node.child, mask, out);
+                sp += mask.count_ones() as usize - 1;
                 continue;
             }
         }

@@ -408,7 +408,7 @@ pub fn closest_raw_batch<F: Float, V: Vec8>(
             }
             packets.push((c, used));
         }
-        queue.run::<V, (u32, f32)>(v, shapes, chunk.len());
+        queue.run::<V, u64>(v, shapes, chunk.len());
         for (j, (o, (c, used))) in chunk.chunks_mut(F::LANES).zip(&mut packets).enumerate() {
             for i in lanes(*used) {
                 if let Some(f) = queue.subjects[F::LANES * j + i].found {

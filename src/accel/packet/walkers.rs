@@ -26,7 +26,7 @@
 //! [`traverse`]: crate::accel::traverse
 use crate::accel::block::{widen, Best, RayLanes};
 use crate::accel::simd::Vec8;
-use crate::accel::traverse::{insert_far_first, BoxRay, Found, View, STACK};
+use crate::accel::traverse::{BoxRay, Found, View, STACK};
 use crate::accel::wide::{leaf_range, LEAF};
 use crate::math::{Ray, Vec3};
 use crate::shape::mesh::ShearedRay;
@@ -220,7 +220,7 @@ pub(super) struct Walker<'s, V, E> {
 }
 
 /// A closest-hit walk.
-pub(super) type Closest<'s, V> = Walker<'s, V, (u32, f32)>;
+pub(super) type Closest<'s, V> = Walker<'s, V, u64>;
 /// An occlusion walk: any primitive hit within the ray's extent blocks it.
 pub(super) type Any<'s, V> = Walker<'s, V, u32>;
 
@@ -286,29 +286,14 @@ impl<V: Vec8> Walk for Closest<'_, V> {
             }
         } else {
             let node = &v.nodes[cur as usize];
-            let (near, mut mask) = node.hit(&self.br.o, &self.br.inv_d, s.best.t);
+            let (near, mask) = node.hit(&self.br.o, &self.br.inv_d, s.best.t);
             if mask != 0 {
-                if mask & (mask - 1) == 0 {
-                    self.cur = node.child[mask.trailing_zeros() as usize];
-                    v.prefetch(self.cur);
-                    return true;
-                }
                 // As `traverse`: far first, so that the stack pops the nearest first.
-                let near = near.to_array();
-                let mut keys = [0u64; 8];
-                let mut n = 0;
-                while mask != 0 {
-                    let lane = mask.trailing_zeros() as usize;
-                    mask &= mask - 1;
-                    let key = ((near[lane].to_bits() as u64) << 32) | node.child[lane] as u64;
-                    insert_far_first(&mut keys, n, key);
-                    n += 1;
-                }
-                for &k in &keys[..n - 1] {
-                    self.stack[self.sp].write((k as u32, f32::from_bits((k >> 32) as u32)));
-                    self.sp += 1;
-                }
-                self.cur = keys[n - 1] as u32;
+                // SAFETY: the stack has room for eight entries above any `sp` a walk reaches.
+                let out = unsafe { &mut *(self.stack.as_mut_ptr().add(self.sp) as *mut [u64; 8]) };
+                let nearest = near.far_first(&node.child, mask, out);
+                self.sp += mask.count_ones() as usize - 1;
+                self.cur = nearest as u32;
                 v.prefetch(self.cur);
                 return true;
             }
@@ -316,7 +301,8 @@ impl<V: Vec8> Walk for Closest<'_, V> {
         while self.sp > 0 {
             self.sp -= 1;
             // SAFETY: slots below the old `sp` were all written by a push.
-            let (c, t) = unsafe { self.stack[self.sp].assume_init() };
+            let k = unsafe { self.stack[self.sp].assume_init() };
+            let (c, t) = (k as u32, f32::from_bits((k >> 32) as u32));
             if t <= widen(s.best.t) {
                 self.cur = c;
                 v.prefetch(c);
@@ -347,16 +333,13 @@ impl<V: Vec8> Walk for Any<'_, V> {
             }
         } else {
             let node = &v.nodes[cur as usize];
-            let (_, mut mask) = node.hit(&self.br.o, &self.br.inv_d, s.ray.t_max);
+            let (_, mask) = node.hit(&self.br.o, &self.br.inv_d, s.ray.t_max);
             if mask != 0 {
-                self.cur = node.child[mask.trailing_zeros() as usize];
+                // SAFETY: the stack has room for eight entries above any `sp` a walk reaches.
+                let out = unsafe { &mut *(self.stack.as_mut_ptr().add(self.sp) as *mut [u32; 8]) };
+                self.cur = V::first_and_rest(&node.child, mask, out);
+                self.sp += mask.count_ones() as usize - 1;
                 v.prefetch(self.cur);
-                mask &= mask - 1;
-                while mask != 0 {
-                    self.stack[self.sp].write(node.child[mask.trailing_zeros() as usize]);
-                    self.sp += 1;
-                    mask &= mask - 1;
-                }
                 return true;
             }
         }
