@@ -105,7 +105,7 @@ fn any_walk<F: Float, V: Vec8>(
     let (mut cur, mut active) = (v.root, p.valid);
     let inf = F::splat(f32::INFINITY);
     loop {
-        if alone(cur, active) {
+        if alone(cur, active, F::LANES, defer.is_some()) {
             if let Some(d) = defer.as_mut() {
                 d.push(cur, active, F::splat(0.0));
             } else {

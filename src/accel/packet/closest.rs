@@ -300,7 +300,7 @@ fn walk<F: Float, V: Vec8>(
     // The current subtree, its rays and their entry distances.
     let (mut cur, mut active, mut entry) = (v.root, p.valid, F::splat(0.0));
     loop {
-        if alone(cur, active) {
+        if alone(cur, active, F::LANES, defer.is_some()) {
             match defer.as_mut() {
                 Some(d) => d.push(cur, active, entry),
                 None => c.single::<V>(v, shapes, p, cur, active),

@@ -53,18 +53,27 @@ pub use any::{any, any_batch, any_columns};
 pub use closest::{closest, closest_raw, closest_raw_batch, closest_raw_columns};
 pub use lanes::RayColumns;
 
-/// A node with at most this many rays left continues ray by ray (measured: 2 to 5 level,
-/// 1 slower on the 1M-triangle mesh).
+/// A node with at most this many rays left continues ray by ray, where those rays' walks run
+/// at once (measured: 2 to 5 level, 1 slower on the 1M-triangle mesh).
 pub const SWITCH_NODE: u32 = 3;
+/// Where the walks are queued and interleaved (`walkers.rs`), a node with at most this many
+/// eighths of the packet's lanes left continues ray by ray: ten rays of sixteen with AVX-512,
+/// five of eight with AVX2. Measured on the 1M-triangle mesh with AVX-512 (`bench_accel`, rays
+/// per second against three rays): camera rays 1.15×, bounce 1.05×, shadow 1.09×; a packet
+/// of sixteen rays that all go alone from the root was 2× slower.
+pub const SWITCH_NODE_QUEUED_EIGHTHS: u32 = 5;
 /// A leaf with at most this many rays left is tested ray by ray (measured: 1 about 3 % faster
 /// than 3 on the Cornell box, level on the mesh).
 pub const SWITCH_LEAF: u32 = 1;
 
-/// Whether the rays `active` go on alone from `node` (a node's or a leaf's reference).
+/// Whether the rays `active` of a packet of `lanes` go on alone from `node` (a node's or a
+/// leaf's reference); `queued`: whether their walks are queued.
 #[inline(always)]
-fn alone(node: u32, active: u32) -> bool {
+fn alone(node: u32, active: u32, lanes: usize, queued: bool) -> bool {
     let most = if node & super::wide::LEAF != 0 {
         SWITCH_LEAF
+    } else if queued {
+        lanes as u32 * SWITCH_NODE_QUEUED_EIGHTHS / 8
     } else {
         SWITCH_NODE
     };
