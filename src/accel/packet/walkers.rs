@@ -150,16 +150,20 @@ impl Queue {
         for j in &self.jobs {
             start[j.ray as usize + 1] += 1;
         }
+        // Without a branch per ray (whether it queued a walk is a coin toss): every ray
+        // writes its group's end one slot on, and the count advances only past those that
+        // have a group.
         let mut at = 0;
         self.groups.clear();
-        self.groups.push(0);
+        self.groups.resize(n + 1, 0);
+        let mut len = 1;
         for s in start.iter_mut().skip(1) {
-            if *s != 0 {
-                at += *s;
-                self.groups.push(at);
-            }
+            at += *s;
+            self.groups[len] = at;
+            len += (*s != 0) as usize;
             *s = at;
         }
+        self.groups.truncate(len);
         // `start[r]` is now the number of jobs of rays below `r`: where ray r's group starts.
         self.grouped.clear();
         self.grouped.resize(
