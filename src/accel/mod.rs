@@ -17,8 +17,9 @@
 //! near the final size. The blocks are allocated on huge pages where Linux gives them
 //! (`pages.rs`).
 //!
-//! **Traversal** ([`traverse`]). One ray against eight boxes at once, nearest child first,
-//! stack entries beyond the closest hit skipped; leaves test four triangles at once with the
+//! **Traversal** ([`traverse`]). One ray against eight boxes at once, nearest child first
+//! (the children hit ordered without branches: with AVX-512 by a sorting network in one
+//! register, [`crate::accel::simd::Vec8::far_first`]), stack entries beyond the closest hit skipped; leaves test four triangles at once with the
 //! watertight test, bit-identical to the scalar one ([`crate::shape::mesh`]); shadow rays stop
 //! at the first hit. The closest hit is defined independently of the visiting order: among the
 //! primitives hit within the ray's range, the nearest, and among equally near ones the lowest

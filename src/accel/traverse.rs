@@ -2,7 +2,7 @@
 //!
 //! Closest hit: the ray meets a node's eight boxes at once ([`Node8::hit`]); of the children it
 //! enters, the nearest is visited next and the others are pushed far-to-near, so the stack pops
-//! them nearest first; popped entries that start beyond the closest hit so far are skipped. The
+//! them nearest first (all eight sorted and stored at once by [`Vec8::far_first`]); popped entries that start beyond the closest hit so far are skipped. The
 //! closest hit is the first in (parameter, id) order ([`Best`]), whatever the visiting order. A
 //! node with one child hit pushes nothing. Any hit (shadow rays) skips the sorting and stops at
 //! the first primitive hit. The stack is fixed-size and left uninitialised (no allocation and
