@@ -17,15 +17,16 @@
 //! near the final size. The blocks are allocated on huge pages where Linux gives them
 //! (`pages.rs`).
 //!
-//! **Traversal** ([`traverse`]). One ray against eight boxes at once, nearest child first
-//! (the children hit ordered without branches: with AVX-512 by a sorting network in one
-//! register, [`crate::accel::simd::Vec8::far_first`]), stack entries beyond the closest hit skipped; leaves test four triangles at once with the
-//! watertight test, bit-identical to the scalar one ([`crate::shape::mesh`]); shadow rays stop
-//! at the first hit. The closest hit is defined independently of the visiting order: among the
-//! primitives hit within the ray's range, the nearest, and among equally near ones the lowest
-//! lane id ([`block::Best`]); every pruning test is conservative, so any traversal order finds
-//! the same primitive, parameter and coordinates. The code uses the portable lanes of [`simd`] and is compiled per
-//! instruction set ([`isa`]: AVX-512, AVX2, baseline), chosen at run time.
+//! **Traversal** ([`traverse`]). One ray against eight boxes at once, nearest child first (with
+//! AVX-512 the children hit are ordered by a sorting network in one register,
+//! [`crate::accel::simd::Vec8::far_first`]), stack entries beyond the closest hit skipped;
+//! leaves test four triangles at once with the watertight test, bit-identical to the scalar one
+//! ([`crate::shape::mesh`]); shadow rays stop at the first hit. The closest hit is defined
+//! independently of the visiting order: among the primitives hit within the ray's range, the
+//! nearest, and among equally near ones the lowest lane id ([`block::Best`]); every pruning
+//! test is conservative, so any traversal order finds the same primitive, parameter and
+//! coordinates. The code uses the portable lanes of [`simd`] and is compiled per instruction
+//! set ([`isa`]: AVX-512, AVX2, baseline), chosen at run time.
 //!
 //! **Packets** ([`packet`]). Batches are traced sixteen rays at a time (eight with AVX2), one
 //! per SIMD lane: each child box and each leaf primitive is tested against all the packet's

@@ -14,6 +14,7 @@
 
 #[cfg(target_arch = "x86_64")]
 use std::arch::x86_64::*;
+use std::mem::MaybeUninit;
 
 /// Four `f32` lanes.
 #[cfg(target_arch = "x86_64")]
@@ -291,31 +292,35 @@ pub trait Vec8: Copy {
 
     /// The children `mask` (nonzero) of `child` with entry distances `self` (lanes ≥ 0), as
     /// keys `distance bits << 32 | child`: all but the nearest written to `out[..n - 1]`
-    /// farthest first (`out[n - 1..]` may be overwritten too); returns the nearest's key.
+    /// farthest first (the rest of `out` may be written too); returns the nearest's key.
     #[inline(always)]
-    fn far_first(self, child: &[u32; 8], mask: u32, out: &mut [u64; 8]) -> u64 {
+    fn far_first(self, child: &[u32; 8], mask: u32, out: &mut [MaybeUninit<u64>; 8]) -> u64 {
         let near = self.to_array();
+        let mut keys = [0u64; 8];
         let mut m = mask;
         let mut n = 0;
         while m != 0 {
             let lane = m.trailing_zeros() as usize;
             m &= m - 1;
             let key = ((near[lane].to_bits() as u64) << 32) | child[lane] as u64;
-            super::traverse::insert_far_first(out, n, key);
+            super::traverse::insert_far_first(&mut keys, n, key);
             n += 1;
         }
-        out[n - 1]
+        for (o, k) in out.iter_mut().zip(keys) {
+            o.write(k);
+        }
+        keys[n - 1]
     }
 
     /// The children `mask` (nonzero) of `child`: all but the first written to `out[..n - 1]`
-    /// in lane order (`out[n - 1..]` may be overwritten too); returns the first.
+    /// in lane order (the rest of `out` may be written too); returns the first.
     #[inline(always)]
-    fn first_and_rest(child: &[u32; 8], mask: u32, out: &mut [u32; 8]) -> u32 {
+    fn first_and_rest(child: &[u32; 8], mask: u32, out: &mut [MaybeUninit<u32>; 8]) -> u32 {
         let first = child[mask.trailing_zeros() as usize];
         let mut m = mask & (mask - 1);
         let mut n = 0;
         while m != 0 {
-            out[n] = child[m.trailing_zeros() as usize];
+            out[n].write(child[m.trailing_zeros() as usize]);
             n += 1;
             m &= m - 1;
         }
@@ -485,7 +490,7 @@ impl Vec8 for Avx8k {
         Avx8::used_bits(a)
     }
     #[inline(always)]
-    fn far_first(self, child: &[u32; 8], mask: u32, out: &mut [u64; 8]) -> u64 {
+    fn far_first(self, child: &[u32; 8], mask: u32, out: &mut [MaybeUninit<u64>; 8]) -> u64 {
         unsafe {
             let near = _mm512_cvtepu32_epi64(_mm256_castps_si256((self.0).0));
             let ch = _mm512_cvtepu32_epi64(_mm256_loadu_si256(child.as_ptr().cast()));
@@ -513,7 +518,7 @@ impl Vec8 for Avx8k {
         }
     }
     #[inline(always)]
-    fn first_and_rest(child: &[u32; 8], mask: u32, out: &mut [u32; 8]) -> u32 {
+    fn first_and_rest(child: &[u32; 8], mask: u32, out: &mut [MaybeUninit<u32>; 8]) -> u32 {
         let first = child[mask.trailing_zeros() as usize];
         unsafe {
             let c = _mm256_loadu_si256(child.as_ptr().cast());
@@ -568,16 +573,20 @@ mod tests {
                     .collect();
                 keys.sort_unstable_by(|a, b| b.cmp(a));
                 let n = keys.len();
-                let mut out = [0u64; 8];
+                let mut out = [MaybeUninit::new(0u64); 8];
                 let nearest = V::load(&near).far_first(&child, mask, &mut out);
                 assert_eq!(nearest, keys[n - 1], "mask {mask:#b}");
+                // SAFETY: initialised above.
+                let out = out.map(|o| unsafe { o.assume_init() });
                 assert_eq!(out[..n - 1], keys[..n - 1], "mask {mask:#b}");
                 let lanes: Vec<u32> = (0..8)
                     .filter(|&l| mask >> l & 1 != 0)
                     .map(|l| child[l])
                     .collect();
-                let mut rest = [0u32; 8];
+                let mut rest = [MaybeUninit::new(0u32); 8];
                 assert_eq!(V::first_and_rest(&child, mask, &mut rest), lanes[0]);
+                // SAFETY: initialised above.
+                let rest = rest.map(|o| unsafe { o.assume_init() });
                 assert_eq!(rest[..n - 1], lanes[1..], "mask {mask:#b}");
             }
         }

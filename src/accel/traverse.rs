@@ -2,9 +2,10 @@
 //!
 //! Closest hit: the ray meets a node's eight boxes at once ([`Node8::hit`]); of the children it
 //! enters, the nearest is visited next and the others are pushed far-to-near, so the stack pops
-//! them nearest first (all eight sorted and stored at once by [`Vec8::far_first`]); popped entries that start beyond the closest hit so far are skipped. The
-//! closest hit is the first in (parameter, id) order ([`Best`]), whatever the visiting order. A
-//! node with one child hit pushes nothing. Any hit (shadow rays) skips the sorting and stops at
+//! them nearest first (all eight sorted and stored at once by [`Vec8::far_first`]); popped
+//! entries that start beyond the closest hit so far are skipped. The closest hit is the first
+//! in (parameter, id) order ([`Best`]), whatever the visiting order. A node with one child hit
+//! pushes nothing. Any hit (shadow rays) skips the sorting and stops at
 //! the first primitive hit. The stack is fixed-size and left uninitialised (no allocation and
 //! no zeroing per ray).
 //!
@@ -166,7 +167,8 @@ pub(super) fn closest_from<V: Vec8>(
                 // nearest first. Their memory is requested now, so that the loads overlap.
                 prefetch_hit(v, &node.child, mask);
                 // SAFETY: `STACK` leaves room for eight entries above any `sp` reached.
-                let out = unsafe { &mut *(stack.as_mut_ptr().add(sp) as *mut [u64; 8]) };
+                let out =
+                    unsafe { &mut *(stack.as_mut_ptr().add(sp) as *mut [MaybeUninit<u64>; 8]) };
                 cur = near.far_first(&node.child, mask, out) as u32;
                 sp += mask.count_ones() as usize - 1;
                 continue;
@@ -236,7 +238,8 @@ pub(super) fn any_from<V: Vec8>(
             if mask != 0 {
                 prefetch_hit(v, &node.child, mask & (mask - 1));
                 // SAFETY: `STACK` leaves room for eight entries above any `sp` reached.
-                let out = unsafe { &mut *(stack.as_mut_ptr().add(sp) as *mut [u32; 8]) };
+                let out =
+                    unsafe { &mut *(stack.as_mut_ptr().add(sp) as *mut [MaybeUninit<u32>; 8]) };
                 cur = V::first_and_rest(&node.child, mask, out);
                 sp += mask.count_ones() as usize - 1;
                 continue;

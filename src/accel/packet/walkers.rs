@@ -19,10 +19,11 @@
 //!
 //! Measured on the 1M-triangle Cornell mesh (`bench/ab.py`, one thread): the render 1.13×
 //! as fast (and, with the walks' steps made cheaper by [`Vec8::far_first`], a packet now hands
-//! its rays to them sooner: [`super::SWITCH_NODE_QUEUED_EIGHTHS`]); a walk's turn costs about what it costs on a 10k-triangle mesh that fits in
-//! cache. Running a ray's walks as they come in the queue rather than one after another made
-//! 14 % more node visits. Below [`crate::accel::bvh::INTERLEAVE_BLOCKS`] the queueing is not
-//! done: on the Cornell box's spheres it cost 9 %.
+//! its rays to them sooner: [`super::SWITCH_NODE_QUEUED_EIGHTHS`]); a walk's turn costs about
+//! what it costs on a 10k-triangle mesh that fits in cache. Running a ray's walks as they come
+//! in the queue rather than one after another made 14 % more node visits. Below
+//! [`crate::accel::bvh::INTERLEAVE_BLOCKS`] the queueing is not done: on the Cornell box's
+//! spheres it cost 9 %.
 //!
 //! [`traverse`]: crate::accel::traverse
 use crate::accel::block::{widen, Best, RayLanes};
@@ -295,7 +296,9 @@ impl<V: Vec8> Walk for Closest<'_, V> {
             if mask != 0 {
                 // As `traverse`: far first, so that the stack pops the nearest first.
                 // SAFETY: the stack has room for eight entries above any `sp` a walk reaches.
-                let out = unsafe { &mut *(self.stack.as_mut_ptr().add(self.sp) as *mut [u64; 8]) };
+                let out = unsafe {
+                    &mut *(self.stack.as_mut_ptr().add(self.sp) as *mut [MaybeUninit<u64>; 8])
+                };
                 let nearest = near.far_first(&node.child, mask, out);
                 self.sp += mask.count_ones() as usize - 1;
                 self.cur = nearest as u32;
@@ -341,7 +344,9 @@ impl<V: Vec8> Walk for Any<'_, V> {
             let (_, mask) = node.hit(&self.br.o, &self.br.inv_d, s.ray.t_max);
             if mask != 0 {
                 // SAFETY: the stack has room for eight entries above any `sp` a walk reaches.
-                let out = unsafe { &mut *(self.stack.as_mut_ptr().add(self.sp) as *mut [u32; 8]) };
+                let out = unsafe {
+                    &mut *(self.stack.as_mut_ptr().add(self.sp) as *mut [MaybeUninit<u32>; 8])
+                };
                 self.cur = V::first_and_rest(&node.child, mask, out);
                 self.sp += mask.count_ones() as usize - 1;
                 v.prefetch(self.cur);
