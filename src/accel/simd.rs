@@ -443,6 +443,19 @@ impl Vec8 for Avx8 {
     }
 }
 
+/// `fn $f(self, o: Self) -> Self` of [`Avx8k`] as [`Avx8`]'s.
+#[cfg(target_arch = "x86_64")]
+macro_rules! delegate_binary {
+    ($($f:ident),*) => {
+        $(
+            #[inline(always)]
+            fn $f(self, o: Self) -> Self {
+                Avx8k(self.0.$f(o.0))
+            }
+        )*
+    };
+}
+
 /// [`Avx8`] on a CPU with AVX-512, which orders a node's children with a sorting network in
 /// one register instead of branches.
 #[cfg(target_arch = "x86_64")]
@@ -465,22 +478,8 @@ impl Vec8 for Avx8k {
     fn to_array(self) -> [f32; 8] {
         self.0.to_array()
     }
-    #[inline(always)]
-    fn sub(self, o: Self) -> Self {
-        Avx8k(self.0.sub(o.0))
-    }
-    #[inline(always)]
-    fn mul(self, o: Self) -> Self {
-        Avx8k(self.0.mul(o.0))
-    }
-    #[inline(always)]
-    fn min(self, o: Self) -> Self {
-        Avx8k(self.0.min(o.0))
-    }
-    #[inline(always)]
-    fn max(self, o: Self) -> Self {
-        Avx8k(self.0.max(o.0))
-    }
+    // The lane arithmetic is `Avx8`'s.
+    delegate_binary!(sub, mul, min, max);
     #[inline(always)]
     fn le_bits(self, o: Self) -> u32 {
         self.0.le_bits(o.0)
