@@ -80,7 +80,8 @@ macro_rules! variants {
         pub fn $name(isa: Isa, $($arg: $ty),*) -> $ret {
             #[cfg(target_arch = "x86_64")]
             {
-                use super::simd::{Avx8, Avx8k};
+                use super::order::Avx8k;
+                use super::simd::Avx8;
                 #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
                 fn avx2($($arg: $ty),*) -> $ret {
                     $($body)::+::<Avx8>($($arg),*)
@@ -142,7 +143,8 @@ macro_rules! packets {
             assert_eq!(rays.len(), out.len());
             #[cfg(target_arch = "x86_64")]
             {
-                use super::simd::{Avx8, Avx8k};
+                use super::order::Avx8k;
+                use super::simd::Avx8;
                 use crate::simd::{F16, F8};
                 #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
                 fn avx2(v: View, shapes: &[Shape], rays: &[Ray], out: &mut [$out]) {
@@ -225,7 +227,8 @@ macro_rules! column_packets {
             #[cfg(target_arch = "x86_64")]
             {
                 use super::packet::RayColumns;
-                use super::simd::{Avx8, Avx8k};
+                use super::order::Avx8k;
+                use super::simd::Avx8;
                 use crate::simd::{F16, F8};
                 #[target_feature(enable = "avx2,fma,bmi1,bmi2,lzcnt,popcnt")]
                 fn avx2(v: View, shapes: &[Shape], rays: &RayColumns, out: &mut [$out]) {

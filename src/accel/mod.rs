@@ -18,7 +18,7 @@
 //! (`pages.rs`).
 //!
 //! **Traversal** ([`traverse`]). One ray against eight boxes at once, nearest child first (with
-//! AVX-512 the children hit are ordered by a sorting network in one register,
+//! AVX-512 the children hit are ordered by a sorting network in one register, `order.rs`,
 //! [`crate::accel::simd::Vec8::far_first`]), stack entries beyond the closest hit skipped;
 //! leaves test four triangles at once with the watertight test, bit-identical to the scalar one
 //! ([`crate::shape::mesh`]); shadow rays stop at the first hit. The closest hit is defined
@@ -52,6 +52,7 @@ pub mod build;
 pub mod bvh;
 pub mod isa;
 pub mod layout;
+pub mod order;
 pub mod packet;
 mod pages;
 mod partition;
